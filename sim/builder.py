@@ -1,0 +1,133 @@
+"""World description -> MjSpec: floor, static obstacles, movable obstacle slots, lights.
+
+Geom groups are a contract with the sensors and the contact checks:
+
+- ``FLOOR_GROUP`` (0): the floor plane.
+- ``STATIC_GROUP`` (1): walls, boxes and cylinders of the world file.
+- ``MOVABLE_GROUP`` (2): obstacle slots that events spawn or move at run time (mocap bodies).
+- ``ROBOT_GROUP`` (3): every geom of a robot; sensors on a robot exclude this group.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from baobab.sim.world import World
+
+FLOOR_GROUP = 0
+STATIC_GROUP = 1
+MOVABLE_GROUP = 2
+ROBOT_GROUP = 3
+
+PHYSICS_TIMESTEP = 0.002
+"""Default physics step (s): 500 Hz."""
+
+MOVABLE_SLOT_COUNT = 4
+MOVABLE_SLOT_PREFIX = "movable_"
+MOVABLE_PARK_DISTANCE = 1000.0
+"""Where unused movable slots wait (m along x): far outside every world and every sensor."""
+
+
+def movable_slot_name(index: int) -> str:
+    """Body (and geom) name of the movable obstacle slot ``index``."""
+    return f"{MOVABLE_SLOT_PREFIX}{index}"
+
+
+def world_spec(
+    world: World,
+    *,
+    timestep: float = PHYSICS_TIMESTEP,
+    movable_slots: int = MOVABLE_SLOT_COUNT,
+) -> mujoco.MjSpec:
+    """Build an MjSpec holding ``world``; attach robots to it, then ``compile()``.
+
+    Args:
+        world: the validated world description.
+        timestep: physics step in seconds.
+        movable_slots: how many mocap box bodies to reserve for run-time obstacles.
+    """
+    spec = mujoco.MjSpec()
+    spec.modelname = world.name
+    spec.option.timestep = timestep
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.visual.global_.offwidth = 1280
+    spec.visual.global_.offheight = 960
+    spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
+    spec.visual.headlight.diffuse = [0.5, 0.5, 0.5]
+    spec.stat.center = [world.floor.center[0], world.floor.center[1], 0.0]
+    spec.stat.extent = max(world.floor.size) / 2
+
+    body = spec.worldbody
+    (sx, sy), (cx, cy) = world.floor.size, world.floor.center
+    texture = spec.add_texture(
+        name="floor_checker",
+        type=mujoco.mjtTexture.mjTEXTURE_2D,
+        builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+        rgb1=list(world.floor.colour[:3]),
+        rgb2=[c * 0.9 for c in world.floor.colour[:3]],
+        width=256,
+        height=256,
+    )
+    material = spec.add_material(name="floor_material", texrepeat=[sx, sy], texuniform=False)
+    material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = texture.name
+    body.add_geom(
+        name="floor",
+        type=mujoco.mjtGeom.mjGEOM_PLANE,
+        size=[sx / 2, sy / 2, 0.05],
+        pos=[cx, cy, 0.0],
+        material="floor_material",
+        group=FLOOR_GROUP,
+    )
+    body.add_light(
+        name="sun",
+        pos=[cx, cy, 10.0],
+        dir=[0.2, 0.3, -1.0],
+        diffuse=[0.6, 0.6, 0.6],
+        castshadow=False,
+    )
+    for box in world.boxes:
+        body.add_geom(
+            name=box.name,
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            size=[box.size[0] / 2, box.size[1] / 2, box.height / 2],
+            pos=[box.center[0], box.center[1], box.height / 2],
+            quat=_yaw_quaternion_wxyz(box.yaw),
+            rgba=list(box.colour),
+            group=STATIC_GROUP,
+        )
+    for cylinder in world.cylinders:
+        body.add_geom(
+            name=cylinder.name,
+            type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+            size=[cylinder.radius, cylinder.height / 2, 0.0],
+            pos=[cylinder.center[0], cylinder.center[1], cylinder.height / 2],
+            rgba=list(cylinder.colour),
+            group=STATIC_GROUP,
+        )
+    for index in range(movable_slots):
+        slot = body.add_body(
+            name=movable_slot_name(index),
+            mocap=True,
+            pos=[MOVABLE_PARK_DISTANCE + 10.0 * index, MOVABLE_PARK_DISTANCE, 0.25],
+        )
+        slot.add_geom(
+            name=movable_slot_name(index),
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            size=[0.15, 0.15, 0.25],
+            rgba=[0.85, 0.35, 0.2, 1.0],
+            group=MOVABLE_GROUP,
+        )
+    return spec
+
+
+def _yaw_quaternion_wxyz(yaw: float) -> list[float]:
+    """MuJoCo's w, x, y, z quaternion for a rotation of ``yaw`` (rad) about z."""
+    return [math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)]
+
+
+def geom_ids_in_group(model: mujoco.MjModel, group: int) -> np.ndarray:
+    """Ids of every geom of ``model`` in geom group ``group``."""
+    return np.flatnonzero(model.geom_group == group)

@@ -1,0 +1,31 @@
+"""The root of baobab's exceptions and the ones raised below the mission layer."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class BaobabError(Exception):
+    """Root of every error baobab raises on purpose."""
+
+
+class SourceError(BaobabError):
+    """A mistake in a user file, located as ``path:line:col: message``.
+
+    Lines and columns are 1-based, as editors count them.
+    """
+
+    def __init__(self, path: str | Path, line: int, column: int, message: str) -> None:
+        self.path = str(path)
+        self.line = line
+        self.column = column
+        self.message = message
+        super().__init__(f"{self.path}:{line}:{column}: {message}")
+
+
+class WorldError(SourceError):
+    """A world description that cannot be loaded or built."""
+
+
+class SimulationError(BaobabError):
+    """The physics went somewhere it must not: a MuJoCo warning or a non-finite state."""

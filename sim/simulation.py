@@ -1,0 +1,176 @@
+"""The simulation: one MjModel/MjData, a fixed physics step, the sim clock and periodic callbacks.
+
+Everything that runs inside the sim (sensors, controllers, behaviour-tree ticks) registers a
+periodic callback whose period is an integer multiple of the physics step. Advancing the sim
+runs the callbacks that are due and steps the physics in one ``mj_step(nstep=k)`` batch up to
+the next due callback, so Python only wakes when something has work to do.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from baobab.sim.errors import SimulationError
+
+Callback = Callable[[float], None]
+"""A periodic callback, called with the sim time (s) at which it is due."""
+
+_FATAL_WARNINGS = {
+    mujoco.mjtWarning.mjWARN_BADQACC: "bad qacc: the accelerations became non-finite",
+    mujoco.mjtWarning.mjWARN_BADQVEL: "bad qvel: the velocities became non-finite",
+    mujoco.mjtWarning.mjWARN_BADQPOS: "bad qpos: the positions became non-finite",
+    mujoco.mjtWarning.mjWARN_BADCTRL: "bad ctrl: a control became non-finite",
+    mujoco.mjtWarning.mjWARN_CONTACTFULL: "contact buffer full",
+    mujoco.mjtWarning.mjWARN_CNSTRFULL: "constraint buffer full",
+}
+
+
+@dataclass(order=True)
+class _Scheduled:
+    next_step: int
+    order: int
+    period_steps: int = field(compare=False)
+    callback: Callback = field(compare=False)
+    name: str = field(compare=False)
+    active: bool = field(default=True, compare=False)
+
+
+class PeriodicHandle:
+    """Returned by :meth:`Simulation.every`; call :meth:`cancel` to stop the callback."""
+
+    def __init__(self, entry: _Scheduled) -> None:
+        self._entry = entry
+
+    @property
+    def name(self) -> str:
+        """The name the callback was registered under."""
+        return self._entry.name
+
+    @property
+    def period_steps(self) -> int:
+        """The callback period in physics steps."""
+        return self._entry.period_steps
+
+    def cancel(self) -> None:
+        """Stop calling the callback (idempotent)."""
+        self._entry.active = False
+
+
+class Simulation:
+    """Owns MjModel/MjData, the sim clock and the periodic callbacks.
+
+    Args:
+        model: the compiled model; its ``opt.timestep`` is the physics step (s).
+        seed: seed of the one random generator handed to everything that needs noise.
+    """
+
+    def __init__(self, model: mujoco.MjModel, *, seed: int = 0) -> None:
+        self.model = model
+        self.data = mujoco.MjData(model)
+        self.seed = seed
+        self.rng = np.random.default_rng(seed)
+        self.physics_dt = float(model.opt.timestep)
+        self._step = 0
+        self._queue: list[_Scheduled] = []
+        self._order = 0
+        mujoco.mj_forward(self.model, self.data)
+
+    @property
+    def time(self) -> float:
+        """Sim time in seconds, as an exact multiple of the physics step."""
+        return self._step * self.physics_dt
+
+    @property
+    def step_count(self) -> int:
+        """Physics steps taken since construction."""
+        return self._step
+
+    def steps_for(self, duration: float, *, what: str = "duration") -> int:
+        """Convert ``duration`` (s) to a whole number of physics steps, or raise.
+
+        Raises:
+            SimulationError: if ``duration`` is not a non-negative integer multiple of the step.
+        """
+        if not math.isfinite(duration) or duration < 0:
+            raise SimulationError(f"{what} must be a finite, non-negative time, got {duration}")
+        steps = round(duration / self.physics_dt)
+        if abs(steps * self.physics_dt - duration) > 1e-9 * max(1.0, duration):
+            raise SimulationError(
+                f"{what} {duration} s is not an integer multiple of the physics step "
+                f"{self.physics_dt} s"
+            )
+        return steps
+
+    def every(
+        self, period: float, callback: Callback, *, name: str, first_call: float | None = None
+    ) -> PeriodicHandle:
+        """Call ``callback(t)`` every ``period`` seconds of sim time.
+
+        The first call happens at ``first_call`` (s, default: now). Callbacks due at the same
+        step run in registration order, before the physics step taken from that time.
+
+        Raises:
+            SimulationError: if ``period`` is not a positive multiple of the physics step.
+        """
+        period_steps = self.steps_for(period, what=f"period of '{name}'")
+        if period_steps <= 0:
+            raise SimulationError(f"period of '{name}' must be positive, got {period} s")
+        start = self._step if first_call is None else self.steps_for(first_call, what="first call")
+        entry = _Scheduled(max(start, self._step), self._order, period_steps, callback, name)
+        self._order += 1
+        heapq.heappush(self._queue, entry)
+        return PeriodicHandle(entry)
+
+    def step_for(self, duration: float) -> None:
+        """Advance the sim by ``duration`` seconds, running due callbacks on the way.
+
+        Raises:
+            SimulationError: on a MuJoCo warning that means divergence, or a non-finite state.
+        """
+        self.step_to(self._step + self.steps_for(duration))
+
+    def step_to(self, target_step: int) -> None:
+        """Advance the sim to physics step ``target_step`` (no-op if already there)."""
+        model, data = self.model, self.data
+        while True:
+            self._run_due_callbacks()
+            if self._step >= target_step:
+                return
+            next_due = self._queue[0].next_step if self._queue else target_step
+            batch = min(next_due, target_step) - self._step
+            if batch > 0:
+                mujoco.mj_step(model, data, batch)
+                self._step += batch
+                self.check_state()
+
+    def _run_due_callbacks(self) -> None:
+        queue = self._queue
+        now = self.time
+        while queue and queue[0].next_step <= self._step:
+            entry = heapq.heappop(queue)
+            if not entry.active:
+                continue
+            entry.callback(now)
+            if entry.active:
+                entry.next_step += entry.period_steps
+                heapq.heappush(queue, entry)
+
+    def check_state(self) -> None:
+        """Raise ``SimulationError`` if MuJoCo warned of divergence or the state is non-finite."""
+        warnings = self.data.warning
+        for kind, reason in _FATAL_WARNINGS.items():
+            if warnings[kind].number > 0:
+                warnings[kind].number = 0
+                raise SimulationError(f"physics diverged at t={self.time:.3f} s: {reason}")
+        if not (np.isfinite(self.data.qpos).all() and np.isfinite(self.data.qvel).all()):
+            raise SimulationError(f"physics diverged at t={self.time:.3f} s: non-finite state")
+
+    def forward(self) -> None:
+        """Recompute derived quantities (positions, contacts) after editing the state by hand."""
+        mujoco.mj_forward(self.model, self.data)

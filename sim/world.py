@@ -1,0 +1,179 @@
+"""The world description: a small YAML format for flat floors with walls, boxes and tables.
+
+A world file names a floor, static boxes (walls, counters, crop rows, houses), static cylinders
+(tables, trees, pumps), named spawn poses and named locations. It is validated with pydantic
+and every error names the file, line, column and field.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cached_property
+from importlib import resources
+from pathlib import Path
+from typing import Annotated
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from baobab.sim.errors import WorldError
+from baobab.sim.yaml_source import describe_validation_error, load_located_yaml
+
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+Colour = tuple[
+    Annotated[float, Field(ge=0, le=1)],
+    Annotated[float, Field(ge=0, le=1)],
+    Annotated[float, Field(ge=0, le=1)],
+    Annotated[float, Field(ge=0, le=1)],
+]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Pose2D(_Strict):
+    """A planar pose in the map frame: metres and radians (``yaw_deg`` accepted on input)."""
+
+    x: Finite
+    y: Finite
+    yaw: Finite = 0.0
+
+    @model_validator(mode="before")
+    @classmethod
+    def _degrees(cls, value: object) -> object:
+        if isinstance(value, dict) and "yaw_deg" in value:
+            if "yaw" in value:
+                raise ValueError("give either yaw (radians) or yaw_deg (degrees), not both")
+            value = dict(value)
+            degrees = value.pop("yaw_deg")
+            if isinstance(degrees, int | float) and not isinstance(degrees, bool):
+                value["yaw"] = math.radians(degrees)
+            else:
+                value["yaw"] = degrees
+        return value
+
+
+class Floor(_Strict):
+    """The floor rectangle: full side lengths ``size`` (m) around ``center`` (m)."""
+
+    size: tuple[Positive, Positive]
+    center: tuple[Finite, Finite] = (0.0, 0.0)
+    colour: Colour = (0.82, 0.80, 0.74, 1.0)
+
+
+class Box(_Strict):
+    """A static box standing on the floor: full side lengths ``size`` (m), ``yaw`` (rad)."""
+
+    name: str
+    center: tuple[Finite, Finite]
+    size: tuple[Positive, Positive]
+    height: Positive = 0.5
+    yaw: Finite = 0.0
+    colour: Colour = (0.55, 0.55, 0.60, 1.0)
+
+
+class Cylinder(_Strict):
+    """A static upright cylinder standing on the floor (a table, a tree): metres."""
+
+    name: str
+    center: tuple[Finite, Finite]
+    radius: Positive
+    height: Positive = 0.75
+    colour: Colour = (0.60, 0.42, 0.25, 1.0)
+
+
+class World(_Strict):
+    """A whole world: floor, obstacles, spawn poses and named locations."""
+
+    name: str
+    description: str = ""
+    floor: Floor
+    boxes: list[Box] = Field(default_factory=list)
+    cylinders: list[Cylinder] = Field(default_factory=list)
+    spawns: dict[str, Pose2D] = Field(min_length=1)
+    locations: dict[str, Pose2D] = Field(default_factory=dict)
+
+    @model_validator(mode="after")
+    def _check(self) -> World:
+        if "default" not in self.spawns:
+            raise ValueError("spawns needs a 'default' entry")
+        names = [b.name for b in self.boxes] + [c.name for c in self.cylinders]
+        seen: set[str] = set()
+        for name in names:
+            if name in seen:
+                raise ValueError(f"obstacle name '{name}' is used twice")
+            seen.add(name)
+        for label, pose in {**self.spawns, **self.locations}.items():
+            if not self.contains(pose.x, pose.y):
+                raise ValueError(f"'{label}' at ({pose.x}, {pose.y}) is outside the floor")
+        return self
+
+    @cached_property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """Floor extent as (x_min, y_min, x_max, y_max) in metres."""
+        (sx, sy), (cx, cy) = self.floor.size, self.floor.center
+        return (cx - sx / 2, cy - sy / 2, cx + sx / 2, cy + sy / 2)
+
+    def contains(self, x: float, y: float) -> bool:
+        """True when (x, y) (m) lies on the floor."""
+        (sx, sy), (cx, cy) = self.floor.size, self.floor.center
+        return abs(x - cx) <= sx / 2 and abs(y - cy) <= sy / 2
+
+    @property
+    def spawn(self) -> Pose2D:
+        """The default spawn pose."""
+        return self.spawns["default"]
+
+    def pose(self, name: str) -> Pose2D:
+        """A named location or spawn pose; ``WorldError``-free lookup is the caller's job."""
+        if name in self.locations:
+            return self.locations[name]
+        return self.spawns[name]
+
+
+BUNDLED_WORLDS = ("walls", "cafe", "farm", "town")
+
+
+def bundled_world_path(name: str) -> Path:
+    """Path of a bundled world file such as ``cafe`` -> ``.../sim/worlds/cafe.yaml``."""
+    return Path(str(resources.files("baobab.sim") / "worlds" / f"{name}.yaml"))
+
+
+def bundled_world_names() -> list[str]:
+    """Names of all bundled 2D worlds, sorted."""
+    folder = resources.files("baobab.sim") / "worlds"
+    if not folder.is_dir():
+        return []
+    return sorted(
+        entry.name.removesuffix(".yaml")
+        for entry in folder.iterdir()
+        if entry.name.endswith(".yaml")
+    )
+
+
+def load_world(name_or_path: str | Path) -> World:
+    """Load a bundled world by name (``cafe``) or a world YAML file by path.
+
+    Raises:
+        WorldError: located ``file:line:col: message`` for any problem in the file.
+    """
+    text_name = str(name_or_path)
+    if isinstance(name_or_path, str) and "/" not in text_name and not text_name.endswith(
+        (".yaml", ".yml")
+    ):
+        known = bundled_world_names()
+        if text_name not in known:
+            raise WorldError(
+                text_name, 1, 1, f"unknown world '{text_name}'; bundled worlds: {', '.join(known)}"
+            )
+        path = bundled_world_path(text_name)
+    else:
+        path = Path(name_or_path)
+    document = load_located_yaml(path, WorldError)
+    if not isinstance(document.data, dict):
+        raise document.error((), "a world file must be a mapping of keys", WorldError)
+    try:
+        return World.model_validate(document.data)
+    except ValidationError as exc:
+        raise describe_validation_error(document, exc, (), WorldError) from None

@@ -1,0 +1,244 @@
+"""Safe YAML loading that remembers where every value came from.
+
+PyYAML's safe loader composes nodes that carry start marks; we turn the node graph into plain
+Python data and keep a table from each value's key path to its (line, column). Pydantic's error
+``loc`` tuples index that table, so every validation error can name ``file:line:col``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+from pydantic import ValidationError
+
+from baobab.sim.errors import SourceError
+
+MAX_FILE_BYTES = 2_000_000
+MAX_DEPTH = 64
+MAX_ALIASES = 100
+MAX_NODES = 200_000
+
+KeyPath = tuple[str | int, ...]
+
+
+@dataclass
+class LocatedDocument:
+    """Plain data from a YAML file plus the (line, column) of every key path in it."""
+
+    path: str
+    data: Any
+    marks: dict[KeyPath, tuple[int, int]] = field(default_factory=dict)
+
+    def locate(self, key_path: Sequence[str | int]) -> tuple[int, int]:
+        """Return the 1-based (line, column) of the deepest known prefix of ``key_path``."""
+        parts = tuple(key_path)
+        while parts:
+            if parts in self.marks:
+                return self.marks[parts]
+            parts = parts[:-1]
+        return self.marks.get((), (1, 1))
+
+    def error(
+        self,
+        key_path: Sequence[str | int],
+        message: str,
+        error_type: Callable[[str, int, int, str], SourceError] = SourceError,
+    ) -> SourceError:
+        """Build a located error for the value at ``key_path``."""
+        line, column = self.locate(key_path)
+        return error_type(self.path, line, column, message)
+
+
+def describe_validation_error(
+    document: LocatedDocument,
+    exc: ValidationError,
+    prefix: KeyPath = (),
+    error_type: Callable[[str, int, int, str], SourceError] = SourceError,
+) -> SourceError:
+    """Turn the first error of a pydantic ``ValidationError`` into a located error."""
+    first = exc.errors(include_url=False)[0]
+    loc = prefix + tuple(part for part in first["loc"] if isinstance(part, str | int))
+    dotted = ".".join(str(part) for part in loc) or "document"
+    message = first["msg"]
+    if first["type"] == "extra_forbidden":
+        message = f"unknown key '{loc[-1]}'"
+        parent = loc[:-1]
+        return document.error(parent + (loc[-1],), f"{message} in {_dotted(parent)}", error_type)
+    if first["type"] == "missing":
+        return document.error(loc[:-1], f"missing required key '{loc[-1]}'", error_type)
+    return document.error(loc, f"{dotted}: {message}", error_type)
+
+
+def _dotted(parts: Iterable[str | int]) -> str:
+    text = ".".join(str(part) for part in parts)
+    return text or "the document"
+
+
+class _Limits:
+    def __init__(self) -> None:
+        self.aliases = 0
+        self.nodes = 0
+
+
+def load_located_yaml(
+    path: str | Path,
+    error_type: Callable[[str, int, int, str], SourceError] = SourceError,
+    text: str | None = None,
+) -> LocatedDocument:
+    """Load one YAML document safely, keeping marks; every problem is a located error.
+
+    Rejects: unreadable, oversized, binary or non-UTF-8 files; syntax errors; several
+    documents; duplicate keys; non-string keys; non-finite numbers; more than ``MAX_ALIASES``
+    aliases; nesting deeper than ``MAX_DEPTH``; more than ``MAX_NODES`` values.
+    """
+    shown = str(path)
+    if text is None:
+        text = _read_text(Path(path), shown, error_type)
+    try:
+        loader = yaml.SafeLoader(text)
+        try:
+            root = loader.get_single_node()
+        finally:
+            loader.dispose()
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        line, column = (mark.line + 1, mark.column + 1) if mark else (1, 1)
+        problem = exc.problem or exc.context or "invalid YAML"
+        raise error_type(shown, line, column, f"YAML syntax error: {problem}") from None
+    except yaml.YAMLError as exc:
+        raise error_type(shown, 1, 1, f"YAML syntax error: {exc}") from None
+    except RecursionError:
+        raise error_type(shown, 1, 1, f"nesting deeper than {MAX_DEPTH} levels") from None
+    document = LocatedDocument(shown, None)
+    if root is None:
+        raise error_type(shown, 1, 1, "the file is empty; expected a YAML mapping")
+    document.marks[()] = (root.start_mark.line + 1, root.start_mark.column + 1)
+    limits = _Limits()
+    document.data = _to_data(root, (), 0, document, limits, error_type)
+    return document
+
+
+def _read_text(
+    path: Path, shown: str, error_type: Callable[[str, int, int, str], SourceError]
+) -> str:
+    try:
+        if path.is_dir():
+            raise error_type(shown, 1, 1, "is a directory; expected a YAML file")
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise error_type(
+                shown, 1, 1, f"file is {size} bytes; the limit is {MAX_FILE_BYTES} bytes"
+            )
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise error_type(shown, 1, 1, "no such file") from None
+    except PermissionError:
+        raise error_type(shown, 1, 1, "permission denied") from None
+    except OSError as exc:
+        raise error_type(shown, 1, 1, f"cannot read: {exc.strerror}") from None
+    if b"\x00" in raw:
+        raise error_type(shown, 1, 1, "binary data (NUL byte); expected a YAML text file")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        column = exc.start - (raw.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise error_type(shown, line, column, "not valid UTF-8 text") from None
+
+
+_CONSTRUCTOR = yaml.SafeLoader.__new__(yaml.SafeLoader)
+yaml.constructor.SafeConstructor.__init__(_CONSTRUCTOR)
+
+
+def _to_data(
+    node: yaml.Node,
+    key_path: KeyPath,
+    depth: int,
+    document: LocatedDocument,
+    limits: _Limits,
+    error_type: Callable[[str, int, int, str], SourceError],
+) -> Any:
+    line, column = node.start_mark.line + 1, node.start_mark.column + 1
+    limits.nodes += 1
+    if limits.nodes > MAX_NODES:
+        raise error_type(document.path, line, column, f"more than {MAX_NODES} values")
+    if depth > MAX_DEPTH:
+        raise error_type(document.path, line, column, f"nesting deeper than {MAX_DEPTH} levels")
+    if getattr(node, "_baobab_seen", False):
+        limits.aliases += 1
+        if limits.aliases > MAX_ALIASES:
+            raise error_type(
+                document.path, line, column, f"more than {MAX_ALIASES} aliases (alias bomb?)"
+            )
+    node._baobab_seen = True  # type: ignore[attr-defined]
+    document.marks.setdefault(key_path, (line, column))
+    if isinstance(node, yaml.MappingNode):
+        result: dict[str, Any] = {}
+        for key_node, value_node in node.value:
+            if key_node.tag == "tag:yaml.org,2002:merge":
+                raise error_type(
+                    document.path,
+                    key_node.start_mark.line + 1,
+                    key_node.start_mark.column + 1,
+                    "merge keys (<<) are not supported; write the keys out",
+                )
+            key = _scalar(key_node, document, error_type)
+            if not isinstance(key, str | int) or isinstance(key, bool):
+                raise error_type(
+                    document.path,
+                    key_node.start_mark.line + 1,
+                    key_node.start_mark.column + 1,
+                    f"mapping key {key!r} must be a string",
+                )
+            key = str(key)
+            if key in result:
+                first = document.marks.get(key_path + (key,), (0, 0))
+                raise error_type(
+                    document.path,
+                    key_node.start_mark.line + 1,
+                    key_node.start_mark.column + 1,
+                    f"duplicate key '{key}' (first defined at line {first[0]})",
+                )
+            document.marks[key_path + (key,)] = (
+                key_node.start_mark.line + 1,
+                key_node.start_mark.column + 1,
+            )
+            result[key] = _to_data(
+                value_node, key_path + (key,), depth + 1, document, limits, error_type
+            )
+        return result
+    if isinstance(node, yaml.SequenceNode):
+        return [
+            _to_data(item, key_path + (index,), depth + 1, document, limits, error_type)
+            for index, item in enumerate(node.value)
+        ]
+    return _scalar(node, document, error_type)
+
+
+def _scalar(
+    node: yaml.Node,
+    document: LocatedDocument,
+    error_type: Callable[[str, int, int, str], SourceError],
+) -> Any:
+    line, column = node.start_mark.line + 1, node.start_mark.column + 1
+    if not isinstance(node, yaml.ScalarNode):
+        raise error_type(document.path, line, column, "expected a plain value here")
+    try:
+        value = _CONSTRUCTOR.construct_object(node, deep=True)
+    except yaml.YAMLError as exc:
+        raise error_type(document.path, line, column, f"invalid value: {exc}") from None
+    if isinstance(value, float) and not math.isfinite(value):
+        raise error_type(
+            document.path, line, column, f"non-finite number {node.value!r}; expected a finite one"
+        )
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10**15:
+        raise error_type(document.path, line, column, f"number {node.value} is too large")
+    if not isinstance(value, str | int | float | bool | type(None)):
+        # Timestamps, binary blobs and the like: keep the text as written.
+        return node.value
+    return value
