@@ -136,12 +136,14 @@ class Simulation:
         self.step_to(self._step + self.steps_for(duration))
 
     def step_to(self, target_step: int) -> None:
-        """Advance the sim to physics step ``target_step`` (no-op if already there)."""
+        """Advance the sim to physics step ``target_step`` (no-op if already there).
+
+        Callbacks due at a step run just before the physics step taken from it, so advancing
+        from t0 to t1 runs exactly the callbacks due in [t0, t1).
+        """
         model, data = self.model, self.data
-        while True:
+        while self._step < target_step:
             self._run_due_callbacks()
-            if self._step >= target_step:
-                return
             next_due = self._queue[0].next_step if self._queue else target_step
             batch = min(next_due, target_step) - self._step
             if batch > 0:

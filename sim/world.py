@@ -159,8 +159,10 @@ def load_world(name_or_path: str | Path) -> World:
         WorldError: located ``file:line:col: message`` for any problem in the file.
     """
     text_name = str(name_or_path)
-    if isinstance(name_or_path, str) and "/" not in text_name and not text_name.endswith(
-        (".yaml", ".yml")
+    if (
+        isinstance(name_or_path, str)
+        and "/" not in text_name
+        and not text_name.endswith((".yaml", ".yml"))
     ):
         known = bundled_world_names()
         if text_name not in known:

@@ -151,6 +151,7 @@ def _read_text(
         raise error_type(shown, line, column, "not valid UTF-8 text") from None
 
 
+_PLAIN_TAGS = {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}
 _CONSTRUCTOR = yaml.SafeLoader.__new__(yaml.SafeLoader)
 yaml.constructor.SafeConstructor.__init__(_CONSTRUCTOR)
 
@@ -177,6 +178,8 @@ def _to_data(
             )
     node._baobab_seen = True  # type: ignore[attr-defined]
     document.marks.setdefault(key_path, (line, column))
+    if isinstance(node, yaml.MappingNode | yaml.SequenceNode) and node.tag not in _PLAIN_TAGS:
+        raise error_type(document.path, line, column, f"unsupported YAML tag {node.tag}")
     if isinstance(node, yaml.MappingNode):
         result: dict[str, Any] = {}
         for key_node, value_node in node.value:
