@@ -15,7 +15,7 @@ import math
 import mujoco
 import numpy as np
 
-from baobab.sim.world import World
+from baobab.sim.world import FLOOR_NAME, MOVABLE_SLOT_PREFIX, World
 
 FLOOR_GROUP = 0
 STATIC_GROUP = 1
@@ -26,7 +26,6 @@ PHYSICS_TIMESTEP = 0.002
 """Default physics step (s): 500 Hz."""
 
 MOVABLE_SLOT_COUNT = 4
-MOVABLE_SLOT_PREFIX = "movable_"
 MOVABLE_PARK_DISTANCE = 1000.0
 """Where unused movable slots wait (m along x): far outside every world and every sensor."""
 
@@ -74,7 +73,7 @@ def world_spec(
     material = spec.add_material(name="floor_material", texrepeat=[sx, sy], texuniform=False)
     material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = texture.name
     body.add_geom(
-        name="floor",
+        name=FLOOR_NAME,
         type=mujoco.mjtGeom.mjGEOM_PLANE,
         size=[sx / 2, sy / 2, 0.05],
         pos=[cx, cy, 0.0],

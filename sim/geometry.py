@@ -53,7 +53,9 @@ def floor_edge_distance(world: World, points: ArrayLike) -> FloatArray:
     """Distance (m) from each point to the floor edge: positive on the floor, negative off it."""
     p = _as_points(points)
     x_min, y_min, x_max, y_max = world.bounds
-    return np.minimum.reduce([p[..., 0] - x_min, x_max - p[..., 0], p[..., 1] - y_min, y_max - p[..., 1]])
+    return np.minimum.reduce(
+        [p[..., 0] - x_min, x_max - p[..., 0], p[..., 1] - y_min, y_max - p[..., 1]]
+    )
 
 
 def obstacle_names(world: World) -> list[str]:
@@ -88,7 +90,9 @@ def clearance(world: World, points: ArrayLike) -> FloatArray:
 def nearest_obstacle(world: World, x: float, y: float) -> tuple[str, float]:
     """Name of the obstacle (or ``FLOOR_EDGE``) nearest to (x, y) and its signed distance (m)."""
     names = [*obstacle_names(world), FLOOR_EDGE]
-    distances = np.append(obstacle_distances(world, (x, y))[:, 0], floor_edge_distance(world, (x, y)))
+    distances = np.append(
+        obstacle_distances(world, (x, y))[:, 0], floor_edge_distance(world, (x, y))
+    )
     index = int(np.argmin(distances))
     return names[index], float(distances[index])
 

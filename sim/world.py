@@ -16,7 +16,7 @@ from typing import Annotated
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from baobab.sim.errors import WorldError
-from baobab.sim.yaml_source import describe_validation_error, load_located_yaml
+from baobab.sim.yaml_source import FieldValueError, describe_validation_error, load_located_yaml
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -28,23 +28,28 @@ Colour = tuple[
 ]
 
 
+FLOOR_NAME = "floor"
+"""Name of the floor geom in every built model."""
+
+MOVABLE_SLOT_PREFIX = "movable_"
+"""Prefix of the run-time obstacle slots' body and geom names."""
+
+
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
-class Pose2D(_Strict):
-    """A planar pose in the map frame: metres and radians (``yaw_deg`` accepted on input)."""
-
-    x: Finite
-    y: Finite
-    yaw: Finite = 0.0
+class _Yawed(_Strict):
+    """Accepts ``yaw_deg`` (degrees) on input in place of ``yaw`` (radians)."""
 
     @model_validator(mode="before")
     @classmethod
     def _degrees(cls, value: object) -> object:
         if isinstance(value, dict) and "yaw_deg" in value:
             if "yaw" in value:
-                raise ValueError("give either yaw (radians) or yaw_deg (degrees), not both")
+                raise FieldValueError(
+                    ("yaw_deg",), "give either yaw (radians) or yaw_deg (degrees), not both"
+                )
             value = dict(value)
             degrees = value.pop("yaw_deg")
             if isinstance(degrees, int | float) and not isinstance(degrees, bool):
@@ -52,6 +57,14 @@ class Pose2D(_Strict):
             else:
                 value["yaw"] = degrees
         return value
+
+
+class Pose2D(_Yawed):
+    """A planar pose in the map frame: metres and radians (``yaw_deg`` accepted on input)."""
+
+    x: Finite
+    y: Finite
+    yaw: Finite = 0.0
 
 
 class Floor(_Strict):
@@ -62,8 +75,11 @@ class Floor(_Strict):
     colour: Colour = (0.82, 0.80, 0.74, 1.0)
 
 
-class Box(_Strict):
-    """A static box standing on the floor: full side lengths ``size`` (m), ``yaw`` (rad)."""
+class Box(_Yawed):
+    """A static box standing on the floor: full side lengths ``size`` (m), ``yaw`` (rad).
+
+    ``yaw_deg`` (degrees) is accepted on input in place of ``yaw``.
+    """
 
     name: str
     center: tuple[Finite, Finite]
@@ -97,16 +113,31 @@ class World(_Strict):
     @model_validator(mode="after")
     def _check(self) -> World:
         if "default" not in self.spawns:
-            raise ValueError("spawns needs a 'default' entry")
-        names = [b.name for b in self.boxes] + [c.name for c in self.cylinders]
+            raise FieldValueError(("spawns",), "needs a 'default' entry")
+        obstacles = [("boxes", i, b.name) for i, b in enumerate(self.boxes)]
+        obstacles += [("cylinders", i, c.name) for i, c in enumerate(self.cylinders)]
         seen: set[str] = set()
-        for name in names:
+        for group, index, name in obstacles:
             if name in seen:
-                raise ValueError(f"obstacle name '{name}' is used twice")
+                raise FieldValueError(
+                    (group, index, "name"), f"obstacle name '{name}' is used twice"
+                )
+            if name == FLOOR_NAME or name.startswith(MOVABLE_SLOT_PREFIX):
+                raise FieldValueError(
+                    (group, index, "name"),
+                    f"obstacle name '{name}' is reserved ('{FLOOR_NAME}', "
+                    f"'{MOVABLE_SLOT_PREFIX}N' name the floor and run-time obstacles)",
+                )
             seen.add(name)
-        for label, pose in {**self.spawns, **self.locations}.items():
-            if not self.contains(pose.x, pose.y):
-                raise ValueError(f"'{label}' at ({pose.x}, {pose.y}) is outside the floor")
+        for group, poses in (("spawns", self.spawns), ("locations", self.locations)):
+            for label, pose in poses.items():
+                if not self.contains(pose.x, pose.y):
+                    x_min, y_min, x_max, y_max = self.bounds
+                    raise FieldValueError(
+                        (group, label),
+                        f"'{label}' at ({pose.x}, {pose.y}) is outside the floor "
+                        f"x {x_min:g}..{x_max:g}, y {y_min:g}..{y_max:g}",
+                    )
         return self
 
     @cached_property

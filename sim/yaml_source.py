@@ -16,7 +16,7 @@ from typing import Any
 import yaml
 from pydantic import ValidationError
 
-from baobab.sim.errors import SourceError
+from baobab.sim.errors import BaobabError, SourceError
 
 MAX_FILE_BYTES = 2_000_000
 MAX_DEPTH = 64
@@ -54,6 +54,19 @@ class LocatedDocument:
         return error_type(self.path, line, column, message)
 
 
+class FieldValueError(BaobabError, ValueError):
+    """Raised inside a pydantic validator to blame a value below the model being validated.
+
+    A model validator sees the whole model, so pydantic locates its errors at the model itself;
+    ``key_path`` (relative to that model) lets :func:`describe_validation_error` point at the
+    offending key instead, e.g. ``("locations", "door")``.
+    """
+
+    def __init__(self, key_path: KeyPath, message: str) -> None:
+        super().__init__(message)
+        self.key_path = key_path
+
+
 def describe_validation_error(
     document: LocatedDocument,
     exc: ValidationError,
@@ -63,8 +76,13 @@ def describe_validation_error(
     """Turn the first error of a pydantic ``ValidationError`` into a located error."""
     first = exc.errors(include_url=False)[0]
     loc = prefix + tuple(part for part in first["loc"] if isinstance(part, str | int))
-    dotted = ".".join(str(part) for part in loc) or "document"
     message = first["msg"]
+    cause = first.get("ctx", {}).get("error")
+    if first["type"] == "value_error" and isinstance(cause, ValueError):
+        message = str(cause)  # without pydantic's "Value error, " prefix
+        if isinstance(cause, FieldValueError):
+            loc += cause.key_path
+    dotted = ".".join(str(part) for part in loc) or "document"
     if first["type"] == "extra_forbidden":
         message = f"unknown key '{loc[-1]}'"
         parent = loc[:-1]
