@@ -29,6 +29,7 @@ _FATAL_WARNINGS = {
     mujoco.mjtWarning.mjWARN_CONTACTFULL: "contact buffer full",
     mujoco.mjtWarning.mjWARN_CNSTRFULL: "constraint buffer full",
 }
+_FATAL_INDICES = np.array([int(kind) for kind in _FATAL_WARNINGS])
 
 
 @dataclass(order=True)
@@ -164,14 +165,18 @@ class Simulation:
                 heapq.heappush(queue, entry)
 
     def check_state(self) -> None:
-        """Raise ``SimulationError`` if MuJoCo warned of divergence or the state is non-finite."""
-        warnings = self.data.warning
-        for kind, reason in _FATAL_WARNINGS.items():
-            if warnings[kind].number > 0:
-                warnings[kind].number = 0
-                raise SimulationError(f"physics diverged at t={self.time:.3f} s: {reason}")
-        if not (np.isfinite(self.data.qpos).all() and np.isfinite(self.data.qvel).all()):
-            raise SimulationError(f"physics diverged at t={self.time:.3f} s: non-finite state")
+        """Raise ``SimulationError`` if MuJoCo warned of divergence since the last check.
+
+        MuJoCo checks qpos, qvel and qacc for non-finite values inside every step, resets the
+        data and counts a warning; reading the counters (one array) is all that is needed.
+        """
+        counts = self.data.warning.number
+        if not counts[_FATAL_INDICES].any():
+            return
+        reasons = [reason for kind, reason in _FATAL_WARNINGS.items() if counts[int(kind)] > 0]
+        for kind in _FATAL_WARNINGS:
+            self.data.warning[int(kind)].number = 0
+        raise SimulationError(f"physics diverged at t={self.time:.3f} s: {'; '.join(reasons)}")
 
     def forward(self) -> None:
         """Recompute derived quantities (positions, contacts) after editing the state by hand."""

@@ -1,4 +1,4 @@
-"""The TurtleBot3 Burger as an MjSpec: figures, body, attachment to a world, runtime handle.
+"""The TurtleBot3 Burger as an MjSpec: its figures, its body, and attaching it to a world.
 
 The body is built in Python with MjSpec so its dimensions come from one table of facts
 (:data:`BURGER`) that the base controller and the lidar read too. The robot's frame
@@ -155,9 +155,9 @@ def _add_chassis(chassis: mujoco.MjsBody, facts: BurgerFacts) -> None:
     chassis.explicitinertial = True
     chassis.mass = facts.chassis_mass
     chassis.ipos = [_CHASSIS_CENTER_X, 0.0, 0.075]
-    side, height = 2 * _CHASSIS_HALF, 0.15
-    ixx = facts.chassis_mass / 12 * (side**2 + height**2)
-    chassis.inertia = [ixx, ixx, facts.chassis_mass / 12 * 2 * side**2]
+    width, height = 2 * _CHASSIS_HALF, 0.15
+    ixx = facts.chassis_mass / 12 * (width**2 + height**2)
+    chassis.inertia = [ixx, ixx, facts.chassis_mass / 12 * 2 * width**2]
 
     def geom(**kwargs: object) -> mujoco.MjsGeom:
         return chassis.add_geom(group=ROBOT_GROUP, **kwargs)
@@ -262,6 +262,7 @@ def _add_wheel(
     )
     wheel.explicitinertial = True
     wheel.mass = facts.wheel_mass
+    wheel.ipos = [0.0, 0.0, 0.0]
     axial = facts.wheel_mass * radius**2 / 2
     radial = facts.wheel_mass * (3 * radius**2 + (2 * half_width) ** 2) / 12
     wheel.inertia = [radial, axial, radial]
@@ -272,16 +273,26 @@ def _add_wheel(
         armature=1e-4,
         damping=1e-4,
     )
+    # The tyre touches the floor through a flat ellipsoid: one contact point in the middle of
+    # the tread, as a rounded tyre has, so turning in place does not scrub across the width.
     wheel.add_geom(
         name=f"wheel_{side}",
-        type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-        size=[radius, half_width, 0.0],
-        quat=_Z_TO_Y,
+        type=mujoco.mjtGeom.mjGEOM_ELLIPSOID,
+        size=[radius, half_width, radius],
         friction=[1.0, 0.005, 0.0001],
         condim=3,
         solref=[0.004, 1.0],
-        solimp=[0.95, 0.99, 0.0005, 0.5, 2.0],
         priority=1,
+        group=ROBOT_GROUP,
+        rgba=_INVISIBLE,
+    )
+    wheel.add_geom(
+        name=f"wheel_{side}_tyre",
+        type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+        size=[radius, half_width, 0.0],
+        quat=_Z_TO_Y,
+        contype=0,
+        conaffinity=0,
         group=ROBOT_GROUP,
         rgba=_TYRE,
     )
@@ -303,7 +314,7 @@ def _add_wheel(
     )
     actuator.set_to_velocity(kv=0.2)
     actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-    actuator.forcerange = [-1.5, 1.5]
+    actuator.forcerange = [-1.4, 1.4]  # Dynamixel XL430-W250 stall torque at 11.1 V (N m)
 
 
 def attach_turtlebot3(

@@ -1,0 +1,140 @@
+"""The LDS-01 lidar: one mj_multiRay per scan, ranges in the LaserScan conventions."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
+from baobab.sim import Simulation
+from baobab.sim.builder import world_spec
+from baobab.sim.lidar import LaserScan, Lidar
+from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World
+
+
+def _world(boxes: list[Box] | None = None, cylinders: list[Cylinder] | None = None) -> World:
+    return World(
+        name="lidar_range",
+        floor=Floor(size=(14.0, 14.0)),
+        boxes=boxes or [],
+        cylinders=cylinders or [],
+        spawns={"default": Pose2D(x=0.0, y=0.0)},
+    )
+
+
+def _first_scan(
+    world: World, start: Pose2D | None = None, *, seed: int = 0, lidar_noise_std: float = 0.0
+) -> LaserScan:
+    sim, robot = build_turtlebot3_sim(world, start, seed=seed, lidar_noise_std=lidar_noise_std)
+    sim.step_for(0.002)
+    assert robot.lidar.latest is not None
+    return robot.lidar.latest
+
+
+def test_scan_has_the_lds01_shape() -> None:
+    scan = _first_scan(_world())
+    increment = 2 * math.pi / 360
+    assert len(scan.ranges) == 360
+    assert scan.angle_min == 0.0
+    assert scan.angle_increment == pytest.approx(increment)
+    assert scan.angle_max == pytest.approx(359 * increment)
+    assert (scan.range_min, scan.range_max) == (0.12, 3.5)
+    assert scan.frame_id == "tb3/base_scan"
+    assert scan.angles[90] == pytest.approx(math.pi / 2)
+
+
+def test_the_robot_never_sees_itself() -> None:
+    scan = _first_scan(_world())
+    assert np.isinf(scan.ranges).all()
+
+
+@pytest.mark.parametrize("yaw", [0.0, 0.7, -2.0])
+def test_a_beam_reads_a_wall_at_a_known_distance(yaw: float) -> None:
+    wall = Box(name="wall", center=(2.05, 0.0), size=(0.1, 8.0))
+    scan = _first_scan(_world([wall]), Pose2D(x=0.0, y=0.0, yaw=yaw))
+    # The beam that points along map +x hits the wall face x = 2.0 square on.
+    beam = round(math.remainder(-yaw, 2 * math.pi) / scan.angle_increment) % 360
+    assert scan.sensor_pose.yaw == pytest.approx(yaw, abs=1e-6)
+    expected = (2.0 - scan.sensor_pose.x) / math.cos(scan.angles[beam] + yaw)
+    assert scan.ranges[beam] == pytest.approx(expected, abs=0.01)
+    # Beams pointing away from the wall find nothing.
+    assert math.isinf(scan.ranges[(beam + 180) % 360])
+
+
+def test_hits_beyond_range_max_read_inf() -> None:
+    # mj_multiRay's cutoff only culls bounding volumes: a wall 3.8 m away comes back from
+    # the ray cast and must be clipped by the sensor.
+    near = Box(name="near", center=(0.0, 3.3), size=(8.0, 0.1))
+    far = Box(name="far", center=(0.0, -3.85), size=(8.0, 0.1))
+    scan = _first_scan(_world([near, far]))
+    left, right = scan.ranges[90], scan.ranges[270]
+    assert left == pytest.approx(3.25, abs=0.01)
+    assert math.isinf(right)
+
+
+def test_returns_closer_than_range_min_read_inf() -> None:
+    # A thin post 9 cm ahead of the scanner, clear of the chassis; another 1 m to the left.
+    close = Cylinder(name="close", center=(0.06, 0.0), radius=0.005, height=0.5)
+    post = Cylinder(name="post", center=(-0.032, 1.0), radius=0.02, height=0.5)
+    scan = _first_scan(_world(cylinders=[close, post]))
+    assert math.isinf(scan.ranges[0])
+    assert scan.ranges[90] == pytest.approx(0.98, abs=0.01)
+
+
+def test_beams_follow_the_full_orientation_of_the_site() -> None:
+    spec = world_spec(_world())
+    # A scanner 0.5 m up, pitched 30 degrees nose down: the forward beam meets the floor.
+    pitch = math.radians(30.0)
+    spec.worldbody.add_site(
+        name="tilted", pos=[0.0, 0.0, 0.5], quat=[math.cos(pitch / 2), 0, math.sin(pitch / 2), 0]
+    )
+    sim = Simulation(spec.compile())
+    lidar = Lidar(sim, "tilted")
+    scan = lidar.scan()
+    assert scan.ranges[0] == pytest.approx(0.5 / math.sin(pitch), abs=1e-6)
+    assert math.isinf(scan.ranges[180])  # pointing up and back
+
+
+def test_scans_run_at_five_hertz_and_reach_subscribers() -> None:
+    sim, robot = build_turtlebot3_sim(_world())
+    stamps: list[float] = []
+    robot.lidar.subscribe(lambda scan: stamps.append(scan.stamp))
+    sim.step_for(1.0)
+    assert stamps == pytest.approx([0.0, 0.2, 0.4, 0.6, 0.8])  # due in [0, 1) s
+    assert robot.lidar.latest is not None and robot.lidar.latest.stamp == pytest.approx(0.8)
+
+
+def test_each_scan_owns_its_ranges() -> None:
+    wall = Box(name="wall", center=(2.05, 0.0), size=(0.1, 8.0))
+    sim, robot = build_turtlebot3_sim(_world([wall]))
+    scans: list[LaserScan] = []
+    robot.lidar.subscribe(scans.append)
+    robot.base.command(0.2, 0.0)
+    sim.step_for(1.0)
+    assert scans[0].ranges is not scans[-1].ranges
+    assert scans[-1].ranges[0] < scans[0].ranges[0] - 0.1
+
+
+def test_noise_is_seeded() -> None:
+    wall = Box(name="wall", center=(2.05, 0.0), size=(0.1, 8.0))
+    world = _world([wall])
+    clean = _first_scan(world)
+    noisy = _first_scan(world, seed=7, lidar_noise_std=0.01)
+    again = _first_scan(world, seed=7, lidar_noise_std=0.01)
+    other = _first_scan(world, seed=8, lidar_noise_std=0.01)
+    hits = np.isfinite(clean.ranges)
+    np.testing.assert_array_equal(noisy.ranges, again.ranges)
+    assert not np.array_equal(noisy.ranges[hits], other.ranges[hits])
+    errors = noisy.ranges[hits] - clean.ranges[hits]
+    assert 0.005 < float(np.std(errors)) < 0.02
+    assert np.array_equal(np.isfinite(noisy.ranges), hits)
+
+
+def test_rejects_impossible_settings() -> None:
+    sim, _ = build_turtlebot3_sim(_world())
+    with pytest.raises(ValueError, match="range_min < range_max"):
+        Lidar(sim, "tb3/base_scan", range_min=2.0, range_max=1.0)
+    with pytest.raises(ValueError, match="no site named 'no_such_site'"):
+        Lidar(sim, "no_such_site")
