@@ -1,0 +1,79 @@
+"""Stand-ins for the ROS 2 Python modules a Nav2 Simple Commander script imports.
+
+Each subpackage mirrors one ROS package: ``baobab.nav.ros.rclpy.duration`` is what a script
+gets for ``rclpy.duration``, ``baobab.nav.ros.geometry_msgs.msg`` for ``geometry_msgs.msg``,
+``baobab.nav.ros.robot_navigator`` for the old top-level ``robot_navigator``. They are plain
+baobab modules; :func:`ros_shims` makes them importable under their ROS names for the length
+of a ``with`` block, so an unmodified script runs against baobab's navigator.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from types import ModuleType
+
+from baobab.sim.errors import BaobabError
+
+ROS_MODULES: tuple[str, ...] = (
+    "rclpy",
+    "rclpy.clock",
+    "rclpy.context",
+    "rclpy.duration",
+    "rclpy.logging",
+    "rclpy.node",
+    "rclpy.time",
+    "builtin_interfaces",
+    "builtin_interfaces.msg",
+    "std_msgs",
+    "std_msgs.msg",
+    "geometry_msgs",
+    "geometry_msgs.msg",
+    "nav_msgs",
+    "nav_msgs.msg",
+    "nav2_msgs",
+    "nav2_msgs.msg",
+    "nav2_simple_commander",
+    "nav2_simple_commander.robot_navigator",
+    "robot_navigator",
+)
+"""The ROS module names the shims provide; ``name`` is served by ``baobab.nav.ros.<name>``."""
+
+_ROS_PACKAGES = frozenset(name.partition(".")[0] for name in ROS_MODULES)
+
+
+class UnsupportedRosFeatureError(BaobabError):
+    """A script used a part of ROS that baobab does not model (topics, services, spinning)."""
+
+
+def _owned_by_ros_packages(module_name: str) -> bool:
+    return module_name.partition(".")[0] in _ROS_PACKAGES
+
+
+@contextmanager
+def ros_shims() -> Iterator[None]:
+    """Serve :data:`ROS_MODULES` from baobab inside the block, with a fresh rclpy context.
+
+    Modules already loaded under those package names (a real ROS installation, say) are
+    hidden during the block and put back afterwards; anything loaded under them during the
+    block is dropped, so nothing leaks from one run into the next. ``sys.modules`` is
+    process-wide: do not run two blocks in parallel threads.
+    """
+    from baobab.nav.ros.rclpy.context import fresh_default_context
+
+    shims: dict[str, ModuleType] = {
+        name: importlib.import_module(f"{__name__}.{name}") for name in ROS_MODULES
+    }
+    hidden = {name: mod for name, mod in sys.modules.items() if _owned_by_ros_packages(name)}
+    for name in hidden:
+        del sys.modules[name]
+    sys.modules.update(shims)
+    try:
+        with fresh_default_context():
+            yield
+    finally:
+        for name in [name for name in sys.modules if _owned_by_ros_packages(name)]:
+            del sys.modules[name]
+        sys.modules.update(hidden)

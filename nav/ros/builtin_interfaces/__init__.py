@@ -1,0 +1,1 @@
+"""The ``builtin_interfaces`` package, served by baobab."""

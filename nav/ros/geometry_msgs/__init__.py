@@ -1,0 +1,1 @@
+"""The ``geometry_msgs`` package, served by baobab."""

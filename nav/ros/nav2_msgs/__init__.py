@@ -1,0 +1,1 @@
+"""The ``nav2_msgs`` package, served by baobab."""

@@ -1,0 +1,1 @@
+"""The ``nav2_simple_commander`` package, served by baobab."""

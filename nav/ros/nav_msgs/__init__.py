@@ -1,0 +1,1 @@
+"""The ``nav_msgs`` package, served by baobab."""

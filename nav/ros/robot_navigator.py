@@ -1,0 +1,15 @@
+"""``robot_navigator``: the module name Nav2 tutorials from Foxy and Galactic import from."""
+
+from __future__ import annotations
+
+from baobab.nav.ros._navigator_exports import NAVIGATOR_NAMES, navigator_export
+
+__all__ = list(NAVIGATOR_NAMES)
+
+
+def __getattr__(name: str) -> object:
+    return navigator_export(__name__, name)
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *NAVIGATOR_NAMES})

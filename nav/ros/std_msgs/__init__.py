@@ -1,0 +1,1 @@
+"""The ``std_msgs`` package, served by baobab."""
