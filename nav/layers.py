@@ -1,0 +1,304 @@
+"""Costmap layers: static (world geometry), obstacle (lidar marking and clearing), inflation.
+
+Each layer works on whole numpy arrays; there is no per-cell Python loop. The layers share one
+cell lattice: cell ``(i, j)`` of the lattice is the square
+``[origin_x + i * res, origin_x + (i + 1) * res) x [origin_y + j * res, ...)`` of the static
+raster, and a rolling window is a rectangle of whole lattice cells, so its static cells are a
+slice of the raster.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+from baobab.nav.costmap import (
+    FREE_SPACE,
+    INSCRIBED_INFLATED_OBSTACLE,
+    LETHAL_OBSTACLE,
+    MAX_NON_OBSTACLE,
+    Costmap2D,
+)
+from baobab.sim.lidar import LaserScan
+from baobab.sim.world import Box, Cylinder, World
+
+# Touching is not overlapping: a box whose face lies on a cell boundary leaves the next cell free.
+_TOUCH_EPS = 1e-9
+
+Bounds = tuple[int, int, int, int]
+"""A rectangle of cells ``(ix_min, iy_min, ix_max, iy_max)``, max exclusive."""
+
+
+def union_bounds(a: Bounds | None, b: Bounds | None) -> Bounds | None:
+    """The smallest cell rectangle holding both (None is empty)."""
+    if a is None:
+        return b
+    if b is None:
+        return a
+    return (min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3]))
+
+
+class StaticLayer:
+    """The world's fixed geometry rasterised once: a cell is lethal when an obstacle overlaps it.
+
+    Boxes (with yaw) and cylinders are lethal where they overlap a cell with positive area
+    (an exact separating-axis test, not a centre sample); every cell not wholly on the floor is
+    lethal, so the floor edge keeps the robot on the floor. The raster covers the floor plus
+    ``margin_cells`` of lethal border; cells beyond it read as lethal too.
+
+    Args:
+        world: the world to rasterise.
+        resolution: cell side (m); Nav2's 0.05 by default.
+        margin_cells: lethal cells kept around the floor.
+    """
+
+    def __init__(self, world: World, resolution: float = 0.05, margin_cells: int = 1) -> None:
+        x_min, y_min, x_max, y_max = world.bounds
+        self.resolution = float(resolution)
+        self.origin_x = x_min - margin_cells * resolution
+        self.origin_y = y_min - margin_cells * resolution
+        size_x = math.ceil(round((x_max - x_min) / resolution, 9)) + 2 * margin_cells
+        size_y = math.ceil(round((y_max - y_min) / resolution, 9)) + 2 * margin_cells
+        self.raster = np.full((size_y, size_x), FREE_SPACE, dtype=np.uint8)
+        half = resolution / 2
+        centres_x = self.origin_x + (np.arange(size_x) + 0.5) * resolution
+        centres_y = self.origin_y + (np.arange(size_y) + 0.5) * resolution
+        off_x = (centres_x - half < x_min - _TOUCH_EPS) | (centres_x + half > x_max + _TOUCH_EPS)
+        off_y = (centres_y - half < y_min - _TOUCH_EPS) | (centres_y + half > y_max + _TOUCH_EPS)
+        self.raster[off_y[:, None] | off_x[None, :]] = LETHAL_OBSTACLE
+        for box in world.boxes:
+            self._rasterise_box(box)
+        for cylinder in world.cylinders:
+            self._rasterise_cylinder(cylinder)
+
+    @property
+    def size_x(self) -> int:
+        """Raster cells along x."""
+        return int(self.raster.shape[1])
+
+    @property
+    def size_y(self) -> int:
+        """Raster cells along y."""
+        return int(self.raster.shape[0])
+
+    def lattice_index(self, x: float, y: float) -> tuple[int, int]:
+        """Lattice cell (unbounded) whose lower-left corner is nearest to ``(x, y)`` (m)."""
+        return (
+            round((x - self.origin_x) / self.resolution),
+            round((y - self.origin_y) / self.resolution),
+        )
+
+    def window(self, ix0: int, iy0: int, size_x: int, size_y: int) -> np.ndarray:
+        """Raster cells ``[iy0, iy0 + size_y) x [ix0, ix0 + size_x)``; lethal beyond the raster."""
+        out = np.full((size_y, size_x), LETHAL_OBSTACLE, dtype=np.uint8)
+        sx0, sy0 = max(ix0, 0), max(iy0, 0)
+        sx1, sy1 = min(ix0 + size_x, self.size_x), min(iy0 + size_y, self.size_y)
+        if sx0 < sx1 and sy0 < sy1:
+            out[sy0 - iy0 : sy1 - iy0, sx0 - ix0 : sx1 - ix0] = self.raster[sy0:sy1, sx0:sx1]
+        return out
+
+    def _cell_window(
+        self, x0: float, y0: float, x1: float, y1: float
+    ) -> tuple[slice, slice, np.ndarray, np.ndarray] | None:
+        """Raster slices and cell-centre grids of the cells meeting ``[x0, x1] x [y0, y1]``."""
+        res = self.resolution
+        i0 = max(math.floor((x0 - self.origin_x) / res) - 1, 0)
+        j0 = max(math.floor((y0 - self.origin_y) / res) - 1, 0)
+        i1 = min(math.ceil((x1 - self.origin_x) / res) + 1, self.size_x)
+        j1 = min(math.ceil((y1 - self.origin_y) / res) + 1, self.size_y)
+        if i0 >= i1 or j0 >= j1:
+            return None
+        cx = self.origin_x + (np.arange(i0, i1) + 0.5) * res
+        cy = self.origin_y + (np.arange(j0, j1) + 0.5) * res
+        return slice(j0, j1), slice(i0, i1), cx[None, :], cy[:, None]
+
+    def _rasterise_box(self, box: Box) -> None:
+        a, b = box.size[0] / 2, box.size[1] / 2
+        c, s = abs(math.cos(box.yaw)), abs(math.sin(box.yaw))
+        extent_x, extent_y = a * c + b * s, a * s + b * c
+        bx, by = box.center
+        found = self._cell_window(bx - extent_x, by - extent_y, bx + extent_x, by + extent_y)
+        if found is None:
+            return
+        rows, cols, cx, cy = found
+        h = self.resolution / 2
+        dx, dy = cx - bx, cy - by
+        cos_yaw, sin_yaw = math.cos(box.yaw), math.sin(box.yaw)
+        # Separating axes of a rotated rectangle and an axis-aligned square: x, y, u, v.
+        overlap = (
+            (np.abs(dx) < h + extent_x - _TOUCH_EPS)
+            & (np.abs(dy) < h + extent_y - _TOUCH_EPS)
+            & (np.abs(dx * cos_yaw + dy * sin_yaw) < a + h * (c + s) - _TOUCH_EPS)
+            & (np.abs(-dx * sin_yaw + dy * cos_yaw) < b + h * (c + s) - _TOUCH_EPS)
+        )
+        self.raster[rows, cols][overlap] = LETHAL_OBSTACLE
+
+    def _rasterise_cylinder(self, cylinder: Cylinder) -> None:
+        ox, oy, r = cylinder.center[0], cylinder.center[1], cylinder.radius
+        found = self._cell_window(ox - r, oy - r, ox + r, oy + r)
+        if found is None:
+            return
+        rows, cols, cx, cy = found
+        h = self.resolution / 2
+        # Distance from the circle's centre to the nearest point of each cell square.
+        gap_x = np.maximum(np.abs(cx - ox) - h, 0.0)
+        gap_y = np.maximum(np.abs(cy - oy) - h, 0.0)
+        overlap = gap_x**2 + gap_y**2 < (r - _TOUCH_EPS) ** 2
+        self.raster[rows, cols][overlap] = LETHAL_OBSTACLE
+
+
+@dataclass(frozen=True)
+class ObstacleParams:
+    """Obstacle layer ranges (m), Nav2's defaults."""
+
+    obstacle_max_range: float = 2.5
+    obstacle_min_range: float = 0.0
+    raytrace_max_range: float = 3.0
+    raytrace_min_range: float = 0.0
+
+
+class ObstacleLayer:
+    """Obstacles seen by the lidar: hits mark cells lethal, beams clear the cells they cross.
+
+    Per scan, every beam first clears the cells from the sensor up to its hit (the hit cell
+    itself excluded) or, for a beam that hit nothing, up to ``raytrace_max_range``; then every
+    hit closer than ``obstacle_max_range`` marks its cell lethal. So an obstacle that appears
+    is marked and one that leaves is cleared by the beams that now pass through.
+
+    Args:
+        grid: the layer's own cells; its geometry is the costmap's.
+        params: marking and clearing ranges.
+    """
+
+    def __init__(self, grid: Costmap2D, params: ObstacleParams | None = None) -> None:
+        self.grid = grid
+        self.params = params or ObstacleParams()
+
+    def reset(self) -> None:
+        """Forget every obstacle (Nav2's clear-costmap service on this layer)."""
+        self.grid.data[:] = FREE_SPACE
+
+    def shift(self, dix: int, diy: int) -> None:
+        """Move the grid by whole cells (rolling window); cells entering the window are free."""
+        data = self.grid.data
+        moved = np.full_like(data, FREE_SPACE)
+        ny, nx = data.shape
+        src_x = slice(max(dix, 0), min(nx + dix, nx))
+        dst_x = slice(max(-dix, 0), min(nx - dix, nx))
+        src_y = slice(max(diy, 0), min(ny + diy, ny))
+        dst_y = slice(max(-diy, 0), min(ny - diy, ny))
+        if src_x.start < src_x.stop and src_y.start < src_y.stop:
+            moved[dst_y, dst_x] = data[src_y, src_x]
+        data[:] = moved
+        self.grid.origin_x += dix * self.grid.resolution
+        self.grid.origin_y += diy * self.grid.resolution
+
+    def add_scan(self, scan: LaserScan) -> Bounds | None:
+        """Clear along every beam, then mark the hits.
+
+        Returns:
+            The bounds of the cells whose value changed, None when none did (so a scan of an
+            unchanged scene costs the costmap no inflation update).
+        """
+        p = self.params
+        grid = self.grid
+        ranges = np.asarray(scan.ranges, dtype=float)
+        if ranges.size == 0:
+            return None
+        pose = scan.sensor_pose
+        headings = pose.yaw + scan.angles
+        cos_h, sin_h = np.cos(headings), np.sin(headings)
+        lower = max(scan.range_min, 0.0)
+        valid = ~np.isnan(ranges) & (ranges >= lower)
+        hit = valid & np.isfinite(ranges)
+        # Clear: sample each beam every half cell from the sensor to its clearing length.
+        clear_to = np.where(hit, np.minimum(ranges, p.raytrace_max_range), p.raytrace_max_range)
+        clear_to = np.where(valid, clear_to, 0.0)
+        step = grid.resolution / 2
+        t = np.arange(max(p.raytrace_min_range, 0.0), float(clear_to.max(initial=0.0)), step)
+        ix, iy, inside = grid.world_to_map_array(
+            pose.x + cos_h[:, None] * t[None, :], pose.y + sin_h[:, None] * t[None, :]
+        )
+        hit_range = np.where(hit, ranges, 0.0)
+        end_x, end_y, end_inside = grid.world_to_map_array(
+            pose.x + cos_h * hit_range, pose.y + sin_h * hit_range
+        )
+        # The hit cell stays: beams that end in it must not clear the obstacle they see.
+        in_hit_cell = hit[:, None] & (ix == end_x[:, None]) & (iy == end_y[:, None])
+        clear = inside & (t[None, :] < clear_to[:, None]) & ~in_hit_cell
+        mark = hit & end_inside & (ranges < p.obstacle_max_range)
+        mark &= ranges >= p.obstacle_min_range
+        cells_x = np.concatenate([ix[clear], end_x[mark]])
+        cells_y = np.concatenate([iy[clear], end_y[mark]])
+        before = grid.data[cells_y, cells_x]
+        grid.data[iy[clear], ix[clear]] = FREE_SPACE
+        grid.data[end_y[mark], end_x[mark]] = LETHAL_OBSTACLE
+        changed = grid.data[cells_y, cells_x] != before
+        if not changed.any():
+            return None
+        return _bounds_of(cells_x[changed], cells_y[changed])
+
+
+def _bounds_of(ix: np.ndarray, iy: np.ndarray) -> Bounds:
+    return (int(ix.min()), int(iy.min()), int(ix.max()) + 1, int(iy.max()) + 1)
+
+
+@dataclass(frozen=True)
+class InflationParams:
+    """Inflation around lethal cells (m); the Burger's radius and Nav2 Humble's defaults."""
+
+    inscribed_radius: float = 0.105
+    inflation_radius: float = 0.55
+    cost_scaling_factor: float = 3.0
+
+
+class InflationLayer:
+    """Nav2's inflation: cost falls off exponentially with the distance to the nearest lethal cell.
+
+    For the distance ``d`` (m) between cell centres: 254 at ``d = 0``, 253 for
+    ``d <= inscribed_radius``, ``floor(252 * exp(-k * (d - inscribed_radius)))`` up to
+    ``inflation_radius``, 0 beyond. Distances come from ``scipy.ndimage.distance_transform_edt``.
+    """
+
+    def __init__(self, params: InflationParams | None = None) -> None:
+        self.params = params or InflationParams()
+        self._table: np.ndarray | None = None
+        self._table_resolution = 0.0
+
+    def cost_of_distance(self, distance: np.ndarray) -> np.ndarray:
+        """Inflation cost (``uint8``) at the given distances (m) from the nearest lethal cell."""
+        p = self.params
+        d = np.asarray(distance, dtype=float)
+        decay = MAX_NON_OBSTACLE * np.exp(-p.cost_scaling_factor * (d - p.inscribed_radius))
+        cost = np.where(d <= p.inflation_radius + 1e-9, np.floor(decay), FREE_SPACE)
+        cost = np.where(d <= p.inscribed_radius + 1e-9, INSCRIBED_INFLATED_OBSTACLE, cost)
+        cost = np.where(d <= 0.0, LETHAL_OBSTACLE, cost)
+        return cost.astype(np.uint8)
+
+    def inflate(self, lethal: np.ndarray, resolution: float) -> np.ndarray:
+        """Inflation cost of every cell of a window given its lethal cells (bool array)."""
+        if not lethal.any():
+            return np.zeros(lethal.shape, dtype=np.uint8)
+        # Squared distances between cell centres are whole numbers of cells squared, so the
+        # cost is a table lookup instead of an exp() per cell.
+        table = self._cost_table(resolution)
+        cells = np.asarray(ndimage.distance_transform_edt(~lethal))
+        squared = np.minimum(np.rint(cells * cells), len(table) - 1).astype(np.intp)
+        return table[squared]
+
+    def _cost_table(self, resolution: float) -> np.ndarray:
+        """Cost by squared cell distance, zero from the first square beyond the radius."""
+        if self._table is None or self._table_resolution != resolution:
+            reach = self.margin_cells(resolution) + 1
+            squared = np.arange(reach * reach + 1)
+            self._table = self.cost_of_distance(np.sqrt(squared) * resolution)
+            self._table[-1] = FREE_SPACE
+            self._table_resolution = resolution
+        return self._table
+
+    def margin_cells(self, resolution: float) -> int:
+        """How many cells a lethal cell's inflation reaches."""
+        return math.ceil(self.params.inflation_radius / resolution - 1e-9)
