@@ -1,12 +1,298 @@
-"""The ``baobab`` command line (placeholder until the missions issue lands)."""
+"""The ``baobab`` command line.
+
+Exit codes (DESIGN §2): 0 as intended, 1 ran but not as intended, 2 invalid input (located
+messages on stderr, never a traceback), 130 interrupted.
+
+Commands here: ``validate``, ``tree``, ``schema``, ``list``. ``run``, ``teleop``, ``campaign``
+and ``nav2`` have their arguments declared (DESIGN §4) and are marked EXTENSION POINT: their
+handlers report "not available yet" until the runner lands.
+"""
 
 from __future__ import annotations
 
+import argparse
+import json
 import sys
+from collections.abc import Callable, Sequence
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from baobab.behaviours.ports import Capabilities
+from baobab.missions.compiler import compile_mission
+from baobab.missions.export import to_btcpp, to_dot, to_unicode
+from baobab.missions.json_schema import mission_json_schema
+from baobab.missions.loader import Mission, load_mission
+from baobab.missions.params import parse_assignment
+from baobab.missions.registry import NodeKind, default_registry
+from baobab.missions.robot_catalog import ROBOTS
+from baobab.sim.errors import BaobabError, SourceError
+from baobab.sim.world import bundled_world_names
+from baobab.sim.yaml_source import load_located_yaml
+
+EXIT_OK, EXIT_NOT_INTENDED, EXIT_INVALID, EXIT_INTERRUPTED = 0, 1, 2, 130
+Handler = Callable[[argparse.Namespace], int]
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``baobab`` console script."""
-    del argv
-    print("baobab: the mission launcher is not built yet", file=sys.stderr)
-    return 2
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``baobab`` console script; returns the exit code."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
+        return int(exit_.code or 0)
+    handler: Handler = args.handler
+    try:
+        return handler(args)
+    except SourceError as exc:
+        print(exc, file=sys.stderr)
+        return EXIT_INVALID
+    except BaobabError as exc:
+        print(f"baobab {args.command}: {exc}", file=sys.stderr)
+        return EXIT_INVALID
+    except KeyboardInterrupt:
+        return EXIT_INTERRUPTED
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every subcommand."""
+    parser = argparse.ArgumentParser(
+        prog="baobab",
+        description="Robot missions in YAML, compiled to behaviour trees, run over MuJoCo.",
+    )
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for name, (configure, handler, summary) in COMMANDS.items():
+        sub = commands.add_parser(name, help=summary, description=summary)
+        configure(sub)
+        sub.set_defaults(handler=handler)
+    return parser
+
+
+def _assignment(text: str) -> tuple[str, str]:
+    try:
+        return parse_assignment(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _add_set(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--set",
+        dest="sets",
+        action="append",
+        default=[],
+        type=_assignment,
+        metavar="KEY=VALUE",
+        help="override a mission parameter (repeatable)",
+    )
+
+
+def _overrides(args: argparse.Namespace) -> dict[str, str]:
+    overrides: dict[str, str] = {}
+    for key, value in args.sets:
+        if key in overrides:
+            raise BaobabError(f"--set {key} is given twice")
+        overrides[key] = value
+    return overrides
+
+
+def _offline_capabilities() -> Capabilities:
+    """Ports for displaying or checking a tree without running it: the clock stands at 0."""
+    return Capabilities(clock=lambda: 0.0)
+
+
+# --- validate -------------------------------------------------------------------------------
+
+
+def _configure_validate(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("files", nargs="+", metavar="FILE", help="mission files")
+    _add_set(parser)
+
+
+def _validate(args: argparse.Namespace) -> int:
+    overrides = _overrides(args)
+    failed = 0
+    for file in args.files:
+        try:
+            mission = load_mission(file, overrides)
+            compile_mission(mission, _offline_capabilities(), require_ports=False)
+        except SourceError as exc:
+            print(exc, file=sys.stderr)
+            failed += 1
+            continue
+        nodes = len(mission.tree.walk())
+        print(
+            f"{file}: ok ({mission.name}: {mission.robot.name} in {_world(mission)}, {nodes} nodes)"
+        )
+    return EXIT_INVALID if failed else EXIT_OK
+
+
+def _world(mission: Mission) -> str:
+    return Path(mission.world_name).name if "/" in mission.world_name else mission.world_name
+
+
+# --- tree -----------------------------------------------------------------------------------
+
+
+def _configure_tree(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("mission", metavar="MISSION", help="a mission file")
+    parser.add_argument(
+        "--format",
+        choices=("unicode", "dot", "btcpp"),
+        default="unicode",
+        help="unicode text, Graphviz dot, or BehaviorTree.CPP v4 XML for Groot2",
+    )
+    _add_set(parser)
+
+
+def _tree(args: argparse.Namespace) -> int:
+    mission = load_mission(args.mission, _overrides(args))
+    if args.format == "btcpp":
+        sys.stdout.write(to_btcpp(mission))
+        return EXIT_OK
+    compiled = compile_mission(mission, _offline_capabilities(), require_ports=False)
+    text = to_dot(compiled) if args.format == "dot" else to_unicode(compiled)
+    sys.stdout.write(text if text.endswith("\n") else text + "\n")
+    return EXIT_OK
+
+
+# --- schema ---------------------------------------------------------------------------------
+
+
+def _configure_schema(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("-o", "--output", type=Path, help="write to this file instead of stdout")
+
+
+def _schema(args: argparse.Namespace) -> int:
+    text = json.dumps(mission_json_schema(), indent=2) + "\n"
+    if args.output is None:
+        sys.stdout.write(text)
+    else:
+        args.output.write_text(text, encoding="utf-8")
+    return EXIT_OK
+
+
+# --- list -----------------------------------------------------------------------------------
+
+
+def _configure_list(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", action="store_true", help="one JSON object on stdout")
+
+
+def bundled_missions() -> dict[str, str]:
+    """Bundled mission files (``missions/*.yaml``): name -> description."""
+    folder = resources.files("baobab.missions")
+    missions: dict[str, str] = {}
+    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+        if not entry.name.endswith(".yaml"):
+            continue
+        try:
+            data = load_located_yaml(Path(str(entry))).data
+            description = str(data.get("description", "")) if isinstance(data, dict) else ""
+        except SourceError as exc:
+            description = f"(unreadable: {exc.message})"
+        missions[entry.name.removesuffix(".yaml")] = " ".join(description.split())
+    return missions
+
+
+def _catalogue() -> dict[str, Any]:
+    registry = default_registry()
+    return {
+        "missions": bundled_missions(),
+        "worlds": bundled_world_names(),
+        "scenes": sorted({scene for robot in ROBOTS.values() for scene in robot.scenes}),
+        "robots": {
+            name: {"description": robot.description, "capabilities": sorted(robot.capabilities)}
+            for name, robot in ROBOTS.items()
+        },
+        "behaviours": {
+            behaviour.name: {
+                "kind": behaviour.kind.value,
+                "capability": behaviour.capability,
+                "description": behaviour.description,
+                "parameters": list(behaviour.ports()),
+            }
+            for behaviour in registry
+        },
+    }
+
+
+def _list(args: argparse.Namespace) -> int:
+    catalogue = _catalogue()
+    if args.json:
+        print(json.dumps(catalogue, indent=2))
+        return EXIT_OK
+    lines = ["missions:"]
+    lines += [f"  {n:<24} {d}" for n, d in catalogue["missions"].items()] or ["  (none bundled)"]
+    lines += ["worlds:"] + [f"  {name}" for name in catalogue["worlds"]]
+    lines += [f"  {name} (scene)" for name in catalogue["scenes"]]
+    lines.append("robots:")
+    for name, robot in catalogue["robots"].items():
+        lines.append(f"  {name:<24} {', '.join(robot['capabilities'])}: {robot['description']}")
+    lines.append("behaviours:")
+    for kind in NodeKind:
+        for name, info in catalogue["behaviours"].items():
+            if info["kind"] == kind.value:
+                need = f"[{info['capability']}]" if info["capability"] else ""
+                lines.append(f"  {name:<24} {kind.value:<10} {need:<19} {info['description']}")
+    print("\n".join(lines))
+    return EXIT_OK
+
+
+# --- EXTENSION POINTS: run, teleop, campaign, nav2 ------------------------------------------
+# The lead replaces each `_not_yet(...)` handler below with the real one; the arguments are
+# already those of DESIGN §4, so scripts and docs can rely on them now.
+
+
+def _configure_run(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("mission", metavar="MISSION", help="a mission file")
+    _add_set(parser)
+    parser.add_argument("--seed", type=int, help="override the mission's seed")
+    parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
+    parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
+    parser.add_argument("--viewer", action="store_true", help="show the MuJoCo viewer")
+    parser.add_argument("--realtime", action="store_true", help="pace the sim to the wall clock")
+    parser.add_argument("--record", type=Path, metavar="FILE.mcap", help="record an MCAP log")
+
+
+def _configure_teleop(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--world", required=True, help="a bundled world name")
+
+
+def _configure_campaign(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("mission", metavar="MISSION", help="a mission file")
+    parser.add_argument("--runs", type=int, required=True, help="number of seeded runs")
+    parser.add_argument(
+        "--vary",
+        action="append",
+        default=[],
+        metavar="KEY=DIST",
+        help="e.g. start.x=uniform(-0.2,0.2)",
+    )
+    parser.add_argument("--workers", type=int, help="local worker processes")
+    parser.add_argument("--scheduler", metavar="ADDR", help="a distributed scheduler address")
+    parser.add_argument("--json", action="store_true", help="one JSON summary on stdout")
+
+
+def _configure_nav2(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("script", metavar="SCRIPT.py", help="a Nav2 Simple Commander script")
+    parser.add_argument("--world", required=True, help="a bundled world name")
+    parser.add_argument("--start", metavar="X,Y,YAW", help="start pose (m, m, rad)")
+
+
+def _not_yet(args: argparse.Namespace) -> int:
+    print(f"baobab {args.command}: not available yet", file=sys.stderr)
+    return EXIT_INVALID
+
+
+COMMANDS: dict[str, tuple[Callable[[argparse.ArgumentParser], None], Handler, str]] = {
+    "run": (_configure_run, _not_yet, "run a mission (EXTENSION POINT: the runner)"),
+    "validate": (_configure_validate, _validate, "check mission files without running them"),
+    "tree": (_configure_tree, _tree, "print a mission's compiled behaviour tree"),
+    "schema": (_configure_schema, _schema, "print the JSON Schema of the mission format"),
+    "list": (_configure_list, _list, "list bundled missions, worlds, robots and behaviours"),
+    "teleop": (_configure_teleop, _not_yet, "drive with the keyboard (EXTENSION POINT)"),
+    "campaign": (_configure_campaign, _not_yet, "seeded batch runs (EXTENSION POINT)"),
+    "nav2": (_configure_nav2, _not_yet, "run a Nav2 Simple Commander script (EXTENSION POINT)"),
+}
+"""Subcommand name -> (argument setup, handler, one-line help)."""

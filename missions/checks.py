@@ -1,0 +1,155 @@
+"""Cross-checks of ``events`` and ``expect`` against the robot, the world and the locations.
+
+The pydantic models check each value on its own; these checks need the whole mission: a
+teleop event needs a robot with teleop, an obstacle can only be moved after it was spawned,
+an expectation about a lifted object needs an arm, a location must exist.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from baobab.behaviours.ports import ARM, TELEOP
+from baobab.missions.errors import MissionError, located, unknown_name
+from baobab.missions.poses import MissionScope, Pose
+from baobab.missions.schema import (
+    ARM_EXPECTATIONS,
+    MOBILE_EXPECTATIONS,
+    Event,
+    Expect,
+    MoveObstacleEvent,
+    SpawnObstacleEvent,
+    TeleopEvent,
+)
+from baobab.sim.builder import MOVABLE_SLOT_COUNT
+from baobab.sim.yaml_source import KeyPath, LocatedDocument
+
+
+class MissionChecks:
+    """Runs the cross-checks; every problem is a located :class:`MissionError`."""
+
+    def __init__(
+        self, document: LocatedDocument, scope: MissionScope, origins: dict[KeyPath, str]
+    ) -> None:
+        self.document = document
+        self.scope = scope
+        self.origins = origins
+
+    def _error(self, path: KeyPath, message: str) -> MissionError:
+        return located(self.document, path, message, self.origins)
+
+    def events(self, events: Sequence[Event], timeout: float) -> None:
+        """Check timing, capabilities, obstacle names and slots, and positions."""
+        robot = self.scope.robot
+        spawned: dict[str, int] = {}
+        order = sorted(range(len(events)), key=lambda i: (events[i].at, i))
+        for index in order:
+            event = events[index]
+            path: KeyPath = ("events", index)
+            if event.at > timeout:
+                raise self._error(
+                    (*path, "at"),
+                    f"event at {event.at:g} s comes after the mission timeout {timeout:g} s",
+                )
+            if isinstance(event, TeleopEvent):
+                self._teleop(event, path)
+            elif isinstance(event, SpawnObstacleEvent | MoveObstacleEvent):
+                key = "spawn_obstacle" if isinstance(event, SpawnObstacleEvent) else "move_obstacle"
+                if not robot.mobile or self.scope.world is None:
+                    raise self._error(
+                        (*path, key), f"{key} needs a mobile robot in a 2D world, not {robot.name}"
+                    )
+                obstacle = (
+                    event.spawn_obstacle
+                    if isinstance(event, SpawnObstacleEvent)
+                    else event.move_obstacle
+                )
+                if not self.scope.world.contains(obstacle.x, obstacle.y):
+                    raise self._error(
+                        (*path, key, "x"),
+                        f"obstacle '{obstacle.name}' at ({obstacle.x:g}, {obstacle.y:g}) is "
+                        f"outside the floor of world '{self.scope.world.name}'",
+                    )
+                if isinstance(event, SpawnObstacleEvent):
+                    self._spawn(event, index, spawned)
+                elif obstacle.name not in spawned:
+                    message = unknown_name("obstacle", obstacle.name, spawned)
+                    raise self._error(
+                        (*path, key, "name"),
+                        f"{message} (spawn it with an earlier spawn_obstacle event)",
+                    )
+
+    def _teleop(self, event: TeleopEvent, path: KeyPath) -> None:
+        robot = self.scope.robot
+        if TELEOP not in robot.capabilities:
+            raise self._error(
+                (*path, "teleop"),
+                f"teleop needs capability 'teleop'; robot '{robot.name}' has: "
+                f"{robot.describe_capabilities()}",
+            )
+        command = event.teleop
+        for key, value, limit, unit in (
+            ("linear", command.linear, robot.max_linear_speed, "m/s"),
+            ("angular", command.angular, robot.max_angular_speed, "rad/s"),
+        ):
+            if abs(value) > limit:
+                raise self._error(
+                    (*path, "teleop", key),
+                    f"teleop {key} {value:g} {unit} exceeds {robot.name}'s limit {limit:g} {unit}",
+                )
+
+    def _spawn(self, event: SpawnObstacleEvent, index: int, spawned: dict[str, int]) -> None:
+        path: KeyPath = ("events", index)
+        name = event.spawn_obstacle.name
+        if name in spawned:
+            first = self.document.locate(("events", spawned[name]))[0]
+            raise self._error(
+                (*path, "spawn_obstacle", "name"),
+                f"obstacle '{name}' is already spawned by the event at line {first}",
+            )
+        if len(spawned) == MOVABLE_SLOT_COUNT:
+            raise self._error(
+                (*path, "spawn_obstacle"),
+                f"at most {MOVABLE_SLOT_COUNT} obstacles can be spawned in one run",
+            )
+        spawned[name] = index
+
+    def expect(self, expect: Expect, timeout: float) -> None:
+        """Check that each expectation fits the robot and names known locations."""
+        robot = self.scope.robot
+        given = {key for key in type(expect).model_fields if getattr(expect, key) is not None}
+        for key in sorted(given):
+            needs_mobile = key in MOBILE_EXPECTATIONS and not robot.mobile
+            needs_arm = key in ARM_EXPECTATIONS and ARM not in robot.capabilities
+            if needs_mobile or needs_arm:
+                kind = "a mobile robot" if needs_mobile else "a robot with capability 'arm'"
+                raise self._error(
+                    ("expect", key), f"expectation '{key}' needs {kind}, not {robot.name}"
+                )
+        if expect.max_sim_time is not None and expect.max_sim_time > timeout:
+            raise self._error(
+                ("expect", "max_sim_time"),
+                f"max_sim_time {expect.max_sim_time:g} s is longer than the mission timeout "
+                f"{timeout:g} s",
+            )
+        if expect.final_pose_near is not None and expect.final_pose_near.location is not None:
+            self._location(
+                expect.final_pose_near.location, ("expect", "final_pose_near", "location")
+            )
+        for index, name in enumerate(expect.visited_in_order or []):
+            self._location(name, ("expect", "visited_in_order", index))
+        placed = expect.object_placed
+        if placed is not None and isinstance(placed.target, str):
+            pose = self._location(placed.target, ("expect", "object_placed", "target"))
+            if pose.planar:
+                raise self._error(
+                    ("expect", "object_placed", "target"),
+                    f"location '{placed.target}' is planar; object_placed needs a spatial "
+                    "location {position: [x, y, z]} or [x, y, z]",
+                )
+
+    def _location(self, name: str, path: KeyPath) -> Pose:
+        try:
+            return self.scope.location(name)
+        except ValueError as exc:
+            raise self._error(path, str(exc)) from None

@@ -1,0 +1,250 @@
+"""Poses in mission files, and the scope that gives location names and free space a meaning.
+
+A pose is written as ``{x, y, yaw}`` or ``{x, y, yaw_deg}`` (planar), as
+``{position: [x, y, z], orientation: [qx, qy, qz, qw]}`` (spatial; the quaternion is
+normalised, a zero one is refused), or as a location name. A planar robot uses a spatial
+pose's x, y and the yaw of its orientation. Pydantic fields typed :data:`PoseRef`,
+:data:`GoalPose` or :data:`ArmPose` resolve names and check free space while they validate,
+reading the :class:`MissionScope` from the validation context.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Annotated, Any
+
+import numpy as np
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    PlainValidator,
+    ValidationInfo,
+    WithJsonSchema,
+    model_validator,
+)
+from scipy.spatial.transform import Rotation
+
+from baobab.missions.errors import FieldError, unknown_name
+from baobab.missions.robot_catalog import RobotInfo
+from baobab.sim.geometry import obstacle_distances, obstacle_names
+from baobab.sim.world import Pose2D, World
+
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+IDENTITY_XYZW = (0.0, 0.0, 0.0, 1.0)
+SCOPE_KEY = "mission_scope"
+"""The key of the :class:`MissionScope` in a pydantic validation context."""
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A resolved pose: position (m) and unit quaternion (x, y, z, w) in the world frame.
+
+    Attributes:
+        position: x, y, z (m).
+        orientation: unit quaternion x, y, z, w.
+        location: the location name it was written as, if any.
+        planar: True when written as x, y, yaw (z = 0, rotation about z only).
+    """
+
+    position: tuple[float, float, float]
+    orientation: tuple[float, float, float, float] = IDENTITY_XYZW
+    location: str | None = None
+    planar: bool = True
+
+    @classmethod
+    def from_planar(cls, x: float, y: float, yaw: float) -> Pose:
+        """A planar pose at (x, y) (m) heading ``yaw`` (rad)."""
+        return cls((x, y, 0.0), (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2)))
+
+    @property
+    def x(self) -> float:
+        """x (m)."""
+        return self.position[0]
+
+    @property
+    def y(self) -> float:
+        """y (m)."""
+        return self.position[1]
+
+    @property
+    def yaw(self) -> float:
+        """Heading (rad): the rotation about z of the orientation."""
+        return float(Rotation.from_quat(self.orientation).as_euler("ZYX")[0])
+
+    def pose2d(self) -> Pose2D:
+        """The planar pose a mobile base uses."""
+        return Pose2D(x=self.x, y=self.y, yaw=self.yaw)
+
+    def named(self, location: str) -> Pose:
+        """The same pose, remembered as coming from ``location``."""
+        return Pose(self.position, self.orientation, location, self.planar)
+
+    def describe(self) -> str:
+        """``'table_3' (0.79, -8.27)`` or ``(0.79, -8.27)`` for messages."""
+        where = f"({self.x:.2f}, {self.y:.2f})"
+        return f"'{self.location}' {where}" if self.location else where
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class PlanarPose(_Strict):
+    """A planar pose: ``x``, ``y`` (m) and a heading as ``yaw`` (rad) or ``yaw_deg`` (deg)."""
+
+    x: Finite
+    y: Finite
+    yaw: Finite | None = Field(default=None, description="heading (rad), default 0")
+    yaw_deg: Finite | None = Field(default=None, description="heading (deg), instead of yaw")
+
+    @model_validator(mode="after")
+    def _one_heading(self) -> PlanarPose:
+        if self.yaw is not None and self.yaw_deg is not None:
+            raise FieldError(("yaw_deg",), "give either yaw (rad) or yaw_deg (deg), not both")
+        return self
+
+    def to_pose(self) -> Pose:
+        """The resolved pose."""
+        yaw = math.radians(self.yaw_deg) if self.yaw_deg is not None else (self.yaw or 0.0)
+        return Pose.from_planar(self.x, self.y, yaw)
+
+
+class SpatialPose(_Strict):
+    """A 3D pose: ``position`` [x, y, z] (m), ``orientation`` [qx, qy, qz, qw] (normalised)."""
+
+    position: tuple[Finite, Finite, Finite]
+    orientation: tuple[Finite, Finite, Finite, Finite] = Field(
+        default=IDENTITY_XYZW, description="quaternion x, y, z, w; normalised on load"
+    )
+
+    @model_validator(mode="after")
+    def _unit_quaternion(self) -> SpatialPose:
+        if float(np.linalg.norm(self.orientation)) < 1e-9:
+            raise FieldError(("orientation",), "orientation quaternion has zero norm")
+        return self
+
+    def to_pose(self) -> Pose:
+        """The resolved pose, with a unit quaternion."""
+        q = np.asarray(self.orientation, dtype=float)
+        q = q / np.linalg.norm(q)
+        x, y, z, w = (float(v) for v in q)
+        return Pose(self.position, (x, y, z, w), planar=False)
+
+
+POSE_SCHEMA: dict[str, Any] = {
+    "anyOf": [PlanarPose.model_json_schema(), SpatialPose.model_json_schema()]
+}
+"""JSON Schema of a written pose (planar or spatial)."""
+POSE_REF_SCHEMA: dict[str, Any] = {
+    "anyOf": [{"type": "string", "description": "a location name"}, *POSE_SCHEMA["anyOf"]]
+}
+"""JSON Schema of a location name or a written pose."""
+
+
+def parse_pose(value: Any) -> Pose:
+    """A written pose (planar or spatial mapping, no names) -> :class:`Pose`."""
+    if not isinstance(value, dict):
+        raise ValueError(
+            f"expected a pose {{x, y, yaw}} or {{position, orientation}}, got {value!r}"
+        )
+    if "position" in value or "orientation" in value:
+        return SpatialPose.model_validate(value).to_pose()
+    return PlanarPose.model_validate(value).to_pose()
+
+
+@dataclass(frozen=True)
+class MissionScope:
+    """What poses in one mission may refer to: robot, world geometry and named locations."""
+
+    robot: RobotInfo
+    world: World | None
+    locations: Mapping[str, Pose]
+
+    @staticmethod
+    def of(info: ValidationInfo) -> MissionScope:
+        """The scope in a validation context; a programming error if it is missing."""
+        scope = (info.context or {}).get(SCOPE_KEY)
+        if not isinstance(scope, MissionScope):
+            raise RuntimeError("mission models validate with a MissionScope in the context")
+        return scope
+
+    def location(self, name: str) -> Pose:
+        """The pose of a named location, or a ValueError listing the valid names."""
+        pose = self.locations.get(name)
+        if pose is None:
+            raise ValueError(unknown_name("location", name, self.locations))
+        return pose
+
+    def resolve(self, value: Any) -> Pose:
+        """A location name or a written pose -> :class:`Pose`."""
+        if isinstance(value, str):
+            return self.location(value)
+        if isinstance(value, dict):
+            return parse_pose(value)
+        raise ValueError(
+            "expected a location name or a pose {x, y, yaw} / {position, orientation}, "
+            f"got {value!r}"
+        )
+
+    def free_space_problem(self, pose: Pose) -> str | None:
+        """Why a mobile base cannot stand at ``pose`` (off the floor, in an obstacle), or None."""
+        if self.world is None or not self.robot.mobile:
+            return None
+        world = self.world
+        if not world.contains(pose.x, pose.y):
+            x_min, y_min, x_max, y_max = world.bounds
+            return (
+                f"{pose.describe()} is outside the floor of world '{world.name}' "
+                f"(x {x_min:g}..{x_max:g}, y {y_min:g}..{y_max:g})"
+            )
+        names = obstacle_names(world)
+        if not names:
+            return None
+        distances = obstacle_distances(world, (pose.x, pose.y))[:, 0]
+        index = int(np.argmin(distances))
+        distance, radius = float(distances[index]), self.robot.footprint_radius
+        if distance <= 0.0:
+            return f"{pose.describe()} is inside obstacle '{names[index]}'"
+        if distance < radius:
+            return (
+                f"{pose.describe()} is inside obstacle '{names[index]}' for this robot: "
+                f"{distance:.3f} m from it, less than the {radius} m footprint radius"
+            )
+        return None
+
+
+def _pose_ref(value: Any, info: ValidationInfo) -> Pose:
+    return MissionScope.of(info).resolve(value)
+
+
+def _goal_pose(value: Any, info: ValidationInfo) -> Pose:
+    scope = MissionScope.of(info)
+    pose = scope.resolve(value)
+    problem = scope.free_space_problem(pose)
+    if problem is not None:
+        raise ValueError(f"goal {problem}")
+    return pose
+
+
+def _arm_pose(value: Any, info: ValidationInfo) -> Pose:
+    pose = MissionScope.of(info).resolve(value)
+    if pose.planar:
+        what = f"location '{pose.location}'" if pose.location else "this pose"
+        raise ValueError(
+            f"{what} is planar (x, y, yaw); an arm target needs "
+            "{position: [x, y, z], orientation: [qx, qy, qz, qw]}"
+        )
+    return pose
+
+
+PoseRef = Annotated[Pose, PlainValidator(_pose_ref), WithJsonSchema(POSE_REF_SCHEMA)]
+"""A location name or a written pose."""
+
+GoalPose = Annotated[Pose, PlainValidator(_goal_pose), WithJsonSchema(POSE_REF_SCHEMA)]
+"""A pose a mobile base must reach: on the floor and clear of obstacles by its footprint."""
+
+ArmPose = Annotated[Pose, PlainValidator(_arm_pose), WithJsonSchema(POSE_REF_SCHEMA)]
+"""A spatial tool pose (or the name of a spatial location)."""
