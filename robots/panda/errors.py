@@ -1,0 +1,25 @@
+"""Errors raised for mistakes in what users ask of the Panda."""
+
+from __future__ import annotations
+
+from baobab.sim.errors import BaobabError
+
+
+class TrajectoryGoalError(BaobabError, ValueError):
+    """A trajectory goal ``[T, x, y, z, qx, qy, qz, qw]`` that cannot be executed."""
+
+
+class PandaSceneError(BaobabError, ValueError):
+    """A scene request that cannot be built, such as a cube off the table."""
+
+
+class GripperCommandError(BaobabError, ValueError):
+    """A gripper command other than ``open`` or ``close``."""
+
+
+class PoseError(BaobabError, ValueError):
+    """A pose with the wrong number of values or a quaternion that cannot be normalised."""
+
+
+class GainsError(BaobabError, ValueError):
+    """Impedance gains that are negative, non-finite or out of range."""

@@ -1,0 +1,137 @@
+"""The Franka Hand in MuJoCo: opening command, width, and grasp detection.
+
+The hand is a position servo on the mean finger travel (tendon ``split``; the fingers are
+coupled by a joint equality). Commands move the servo's set-point at a bounded speed, as the
+real hand does, so the fingers meet an object softly and then squeeze it with the servo's
+force. A grasp is detected when the fingers have stopped with a width above zero and the pads
+of both fingers touch the same body that is not part of the robot.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from baobab.robots.panda.model import (
+    BASE_BODY,
+    FINGER_JOINTS,
+    GRIPPER_ACTUATOR,
+    LEFT_FINGER_BODY,
+    MAX_OPENING,
+    RIGHT_FINGER_BODY,
+)
+
+OPENING_SPEED = 0.1
+"""Speed of the commanded opening (m/s of width): 0.05 m/s per finger."""
+
+STALL_SPEED = 0.002
+"""Width rate (m/s) under which the fingers count as stopped."""
+
+MIN_GRASP_WIDTH = 0.002
+"""Widths (m) above this when closed mean something is between the fingers."""
+
+
+class Gripper:
+    """MuJoCo side of the Panda hand, for one attached robot.
+
+    Args:
+        model: the compiled model holding the robot.
+        data: its data.
+        prefix: the name prefix the robot was attached with (e.g. ``"panda/"``).
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
+        self._model = model
+        self._data = data
+        self._actuator = model.actuator(prefix + GRIPPER_ACTUATOR).id
+        joints = [model.joint(prefix + name) for name in FINGER_JOINTS]
+        self._qpos = np.array([int(j.qposadr[0]) for j in joints])
+        self._dof = np.array([int(j.dofadr[0]) for j in joints])
+        self._left_pads = _pad_geoms(model, prefix + LEFT_FINGER_BODY)
+        self._right_pads = _pad_geoms(model, prefix + RIGHT_FINGER_BODY)
+        self._robot_body = _in_subtree(model, model.body(prefix + BASE_BODY).id)
+        self._setpoint = self.width
+        self._goal = self.width
+
+    @property
+    def width(self) -> float:
+        """Distance between the fingers (m): 0 closed, 0.08 fully open."""
+        return float(self._data.qpos[self._qpos].sum())
+
+    @property
+    def width_rate(self) -> float:
+        """Rate of change of the width (m/s)."""
+        return float(self._data.qvel[self._dof].sum())
+
+    @property
+    def goal_width(self) -> float:
+        """The width the hand is moving its set-point to (m)."""
+        return self._goal
+
+    @property
+    def setpoint_settled(self) -> bool:
+        """True once the commanded set-point has reached the goal width."""
+        return self._setpoint == self._goal
+
+    def command(self, width: float) -> None:
+        """Move towards ``width`` (m, clipped to 0 .. 0.08) at :data:`OPENING_SPEED`.
+
+        A set-point left squeezing on the far side of the fingers restarts from the current
+        width, so opening on an object releases it at once.
+        """
+        self._goal = float(np.clip(width, 0.0, MAX_OPENING))
+        width_now = self.width
+        if (self._goal - width_now) * (self._setpoint - width_now) < 0.0:
+            self._setpoint = width_now
+
+    def hold_current(self) -> None:
+        """Make the current width the goal and set-point (stops a motion where it is)."""
+        self._setpoint = self._goal = self.width
+
+    def update(self, dt: float) -> None:
+        """Advance the set-point by one period ``dt`` (s) and write the actuator control."""
+        step = OPENING_SPEED * dt
+        self._setpoint += min(step, max(-step, self._goal - self._setpoint))
+        # The servo acts on the mean finger travel, half the width.
+        self._data.ctrl[self._actuator] = 0.5 * self._setpoint
+
+    def grasped_body(self) -> str | None:
+        """Name of the body both fingers' pads touch, if it is not part of the robot."""
+        ncon = self._data.ncon
+        if ncon == 0:
+            return None
+        geoms = self._data.contact.geom[:ncon]
+        touched_left = _bodies_touched(self._model, geoms, self._left_pads)
+        touched_right = _bodies_touched(self._model, geoms, self._right_pads)
+        common = [b for b in touched_left & touched_right if not self._robot_body[b]]
+        return self._model.body(min(common)).name if common else None
+
+    def is_grasping(self) -> bool:
+        """Stopped above zero width with both fingers on the same object."""
+        return (
+            self.width > MIN_GRASP_WIDTH
+            and abs(self.width_rate) < STALL_SPEED
+            and self.grasped_body() is not None
+        )
+
+
+def _pad_geoms(model: mujoco.MjModel, finger_body: str) -> np.ndarray:
+    body = model.body(finger_body).id
+    return np.flatnonzero(
+        (model.geom_bodyid == body) & (model.geom_type == mujoco.mjtGeom.mjGEOM_BOX)
+    )
+
+
+def _bodies_touched(model: mujoco.MjModel, geoms: np.ndarray, pads: np.ndarray) -> set[int]:
+    first_is_pad = np.isin(geoms[:, 0], pads)
+    second_is_pad = np.isin(geoms[:, 1], pads)
+    others = np.concatenate([geoms[first_is_pad, 1], geoms[second_is_pad, 0]])
+    return {int(b) for b in model.geom_bodyid[others]}
+
+
+def _in_subtree(model: mujoco.MjModel, root: int) -> np.ndarray:
+    inside = np.zeros(model.nbody, dtype=bool)
+    inside[root] = True
+    for body in range(root + 1, model.nbody):
+        inside[body] = inside[model.body_parentid[body]]
+    return inside
