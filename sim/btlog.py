@@ -1,0 +1,120 @@
+"""Groot2 replay logs: BehaviorTree.CPP's ``FileLogger2`` ``.btlog`` format, written from Python.
+
+Layout (all little-endian, as ``bt_file_logger_v2.cpp`` writes it)::
+
+    b"BTCPP4-FileLogger2" | u8 protocol (1) | i32 xml length | tree XML (UTF-8)
+    | i64 first timestamp (microseconds since the epoch)
+    | 9-byte records: u48 offset (microseconds from the first timestamp) | u16 uid | u8 status
+
+The tree XML is BehaviorTree.CPP v4 XML whose nodes carry ``_uid`` attributes (depth-first
+pre-order from 1, continuing through subtrees) and ``_fullpath``, plus a ``<TreeNodesModel>``.
+This module does not build that XML: the tree exporter does; it writes the file around it.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+import struct
+from collections.abc import Mapping
+from pathlib import Path
+from types import TracebackType
+from typing import BinaryIO
+
+from baobab.sim.recording_sinks import RecordingError
+
+MAGIC = b"BTCPP4-FileLogger2"
+PROTOCOL = 1
+_MAX_OFFSET_US = 2**48 - 1
+
+
+class BtStatus(enum.IntEnum):
+    """BehaviorTree.CPP node statuses as Groot2 reads them."""
+
+    IDLE = 0
+    RUNNING = 1
+    SUCCESS = 2
+    FAILURE = 3
+    SKIPPED = 4
+
+
+PY_TREES_STATUS = {
+    "INVALID": BtStatus.IDLE,
+    "RUNNING": BtStatus.RUNNING,
+    "SUCCESS": BtStatus.SUCCESS,
+    "FAILURE": BtStatus.FAILURE,
+}
+"""py_trees ``Status`` names (``status.name``) -> BehaviorTree.CPP statuses."""
+
+
+class BtLogWriter:
+    """Write a ``.btlog`` that Groot2's log viewer replays.
+
+    Args:
+        path: the file; its suffix must be ``.btlog`` (Groot2 recognises files by it).
+        tree_xml: BehaviorTree.CPP v4 XML with ``_uid`` on every node.
+        start_time_us: the first timestamp (microseconds since the epoch); sim time ``t``
+            is written at ``start_time_us + t * 1e6``.
+
+    Raises:
+        RecordingError: for another suffix or a file that cannot be opened.
+    """
+
+    def __init__(self, path: str | Path, tree_xml: str, *, start_time_us: int = 0) -> None:
+        self.path = Path(path)
+        if self.path.suffix != ".btlog":
+            raise RecordingError(f"{self.path}: a Groot2 log needs the suffix .btlog")
+        try:
+            self._file: BinaryIO | None = self.path.open("wb")
+        except OSError as error:
+            raise RecordingError(f"{self.path}: cannot write the tree log: {error}") from error
+        xml = tree_xml.encode("utf-8")
+        self._file.write(MAGIC + struct.pack("<Bi", PROTOCOL, len(xml)) + xml)
+        self._file.write(struct.pack("<q", start_time_us))
+        self._statuses: dict[int, BtStatus] = {}
+        self._last_offset = 0
+        self.records_written = 0
+
+    def transition(self, t: float, uid: int, status: BtStatus) -> None:
+        """Record that node ``uid`` entered ``status`` at sim time ``t`` (s)."""
+        if self._file is None:
+            raise RecordingError(f"{self.path}: the tree log is closed")
+        offset = round(t * 1e6) if math.isfinite(t) else -1
+        if not self._last_offset <= offset <= _MAX_OFFSET_US:
+            raise RecordingError(f"{self.path}: transition time {t} s is out of order or range")
+        if not 0 < uid < 2**16:
+            raise RecordingError(f"{self.path}: node uid {uid} is outside 1..65535")
+        self._file.write(offset.to_bytes(6, "little") + struct.pack("<HB", uid, int(status)))
+        self._statuses[uid] = BtStatus(status)
+        self._last_offset = offset
+        self.records_written += 1
+
+    def update(self, t: float, statuses: Mapping[int, BtStatus]) -> int:
+        """Record every node whose status changed since the last call; returns how many.
+
+        Call it after each tree tick with the status of every node (uid -> status); nodes
+        never seen before count as changed unless they are IDLE.
+        """
+        changed = 0
+        for uid, status in statuses.items():
+            if self._statuses.get(uid, BtStatus.IDLE) != status:
+                self.transition(t, uid, status)
+                changed += 1
+        return changed
+
+    def close(self) -> None:
+        """Finish the file (idempotent)."""
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+    def __enter__(self) -> BtLogWriter:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        self.close()

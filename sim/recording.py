@@ -1,0 +1,539 @@
+"""Record a run as Foxglove messages, to an MCAP file or live over Foxglove's WebSocket protocol.
+
+A :class:`Recorder` takes plain data (sim times in seconds, positions, quaternions x, y, z, w,
+:class:`~baobab.sim.lidar.LaserScan`, uint8 grids, JSON-able dicts, scene
+:class:`~baobab.sim.scene_primitives.Entity`) and logs it with Foxglove's well-known protobuf
+schemas (``foxglove.FrameTransforms``, ``foxglove.LaserScan``, ``foxglove.PoseInFrame``, ...)
+through the official ``foxglove-sdk``. Where the messages go is the job of its sinks:
+:class:`McapSink` writes a file, :class:`LiveSink` serves Foxglove on a WebSocket; a recorder
+may feed both at once.
+
+Channels are created on first use of a topic, so a file holds only the topics a run produced.
+Message log times are ``time_origin_ns + round(t * 1e9)`` for sim time ``t``; they must not go
+backwards on a topic (:class:`RecordingError` otherwise), which keeps every channel in time order.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from types import TracebackType
+from typing import Any
+
+import foxglove
+import numpy as np
+from foxglove import channels as fc
+from foxglove import messages as fm
+from scipy.spatial.transform import Rotation
+
+from baobab.sim.lidar import LaserScan
+from baobab.sim.recording_sinks import LiveSink, McapSink, RecordingError, Sink
+from baobab.sim.scene_primitives import IDENTITY, Entity, Quaternion, Rgba, Vector3, yaw_quaternion
+from baobab.sim.world import Pose2D
+
+__all__ = [
+    "ANY_OBJECT",
+    "TASK_FEEDBACK",
+    "TREE_STATUS",
+    "JsonSchema",
+    "LiveSink",
+    "McapSink",
+    "Recorder",
+    "RecordingError",
+    "Sink",
+    "Topics",
+    "Trail",
+    "Transform",
+]
+
+
+class Topics:
+    """The topic names baobab records under (Nav2 / ROS conventions where they exist)."""
+
+    TF = "/tf"
+    SCAN = "/scan"
+    ROBOT_POSE = "/robot_pose"
+    PLAN = "/plan"
+    FOLLOWED_PATH = "/followed_path"
+    GLOBAL_COSTMAP = "/global_costmap/costmap"
+    WORLD_SCENE = "/world/scene"
+    """Static obstacles, movable obstacles and named locations."""
+    ROBOT_SCENE = "/robot/scene"
+    TREE_STATUS = "/behavior_tree/status"
+    TASK_FEEDBACK = "/task/feedback"
+    JOINT_STATES = "/joint_states"
+    CURRENT_POSE = "/cartesian_impedance/current_pose"
+    DESIRED_POSE = "/cartesian_impedance/desired_pose"
+    FILT_REF_POSE = "/cartesian_impedance/filt_ref_pose"
+    ARM_SCENE = "/scene"
+    """The Panda scene: arm, table and cube."""
+
+
+@dataclass(frozen=True)
+class JsonSchema:
+    """A named JSON Schema for a JSON channel (lets Foxglove complete field paths)."""
+
+    name: str
+    schema: Mapping[str, Any]
+
+
+ANY_OBJECT = JsonSchema("baobab.Json", {"type": "object"})
+
+TREE_STATUS = JsonSchema(
+    "baobab.BehaviourTreeStatus",
+    {
+        "type": "object",
+        "properties": {
+            "tick": {"type": "integer"},
+            "root_status": {"type": "string"},
+            "nodes": {
+                "type": "array",
+                "items": {
+                    "type": "object",
+                    "properties": {
+                        "path": {"type": "string"},
+                        "name": {"type": "string"},
+                        "type": {"type": "string"},
+                        "status": {"enum": ["INVALID", "RUNNING", "SUCCESS", "FAILURE"]},
+                    },
+                },
+            },
+        },
+    },
+)
+"""Suggested payload: ``{"tick": n, "root_status": "RUNNING", "nodes": [{"path", "name",
+"type", "status"}, ...]}`` with nodes in depth-first order."""
+
+TASK_FEEDBACK = JsonSchema(
+    "baobab.TaskFeedback",
+    {"type": "object", "properties": {"task": {"type": "string"}}},
+)
+"""Suggested payload: ``{"task": "NavigateToPose", ...}`` plus Nav2's feedback field names."""
+
+
+@dataclass(frozen=True)
+class Transform:
+    """The pose of frame ``child`` in frame ``parent``: translation (m), rotation x, y, z, w."""
+
+    parent: str
+    child: str
+    translation: Vector3
+    rotation: Quaternion = IDENTITY
+
+    @classmethod
+    def planar(cls, parent: str, child: str, pose: Pose2D, z: float = 0.0) -> Transform:
+        """A transform from a planar pose (m, rad) and a height ``z`` (m)."""
+        return cls(parent, child, (pose.x, pose.y, z), yaw_quaternion(pose.yaw))
+
+
+class Recorder:
+    """Log a run's data as Foxglove messages to one or more sinks.
+
+    Use as a context manager, or call :meth:`close` at the end (it finalises the MCAP file).
+
+    Args:
+        sinks: where the messages go.
+        time_origin_ns: added to every time; 0 keeps sim time as is (a file then starts at
+            the epoch), ``time.time_ns()`` at start makes a live view show the wall clock.
+    """
+
+    def __init__(self, sinks: Sequence[Sink], *, time_origin_ns: int = 0) -> None:
+        self.time_origin_ns = int(time_origin_ns)
+        self._context = foxglove.Context()
+        self._channels: dict[str, tuple[type, Any]] = {}
+        self._last_ns: dict[str, int] = {}
+        self._now_ns = -1
+        self._sinks: list[Sink] = []
+        try:
+            for sink in sinks:
+                sink.attach(self._context)
+                self._sinks.append(sink)
+        except BaseException:
+            self.close()
+            raise
+
+    def __enter__(self) -> Recorder:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    @property
+    def topics(self) -> list[str]:
+        """Topics logged so far, in order of first use."""
+        return list(self._channels)
+
+    def close(self) -> None:
+        """Close every channel and sink (idempotent)."""
+        for _, channel in self._channels.values():
+            channel.close()
+        self._channels.clear()
+        for sink in self._sinks:
+            sink.close()
+        self._sinks.clear()
+
+    # -- navigation ---------------------------------------------------------------------------
+
+    def log_transforms(
+        self, t: float, transforms: Sequence[Transform], *, topic: str = Topics.TF
+    ) -> None:
+        """Log transforms stamped ``t`` (s), e.g. map -> odom -> base_link, as one message."""
+        ns = self._stamp(topic, t)
+        stamp = _timestamp(ns)
+        message = fm.FrameTransforms(
+            transforms=[
+                fm.FrameTransform(
+                    timestamp=stamp,
+                    parent_frame_id=tf.parent,
+                    child_frame_id=tf.child,
+                    translation=_vector3(tf.translation),
+                    rotation=_quaternion(tf.rotation),
+                )
+                for tf in transforms
+            ]
+        )
+        self._channel(topic, fc.FrameTransformsChannel).log(message, log_time=ns)
+
+    def log_pose(
+        self,
+        topic: str,
+        t: float,
+        position: Sequence[float] | np.ndarray,
+        orientation: Sequence[float] | np.ndarray = IDENTITY,
+        *,
+        frame_id: str = "map",
+    ) -> None:
+        """Log a pose (position m, quaternion x, y, z, w) in ``frame_id`` as PoseInFrame."""
+        ns = self._stamp(topic, t)
+        message = fm.PoseInFrame(
+            timestamp=_timestamp(ns), frame_id=frame_id, pose=_pose(position, orientation)
+        )
+        self._channel(topic, fc.PoseInFrameChannel).log(message, log_time=ns)
+
+    def log_planar_pose(
+        self, topic: str, t: float, pose: Pose2D, *, frame_id: str = "map", z: float = 0.0
+    ) -> None:
+        """Log a planar pose (m, rad) at height ``z`` (m) as PoseInFrame."""
+        self.log_pose(topic, t, (pose.x, pose.y, z), yaw_quaternion(pose.yaw), frame_id=frame_id)
+
+    def log_path(
+        self,
+        topic: str,
+        t: float,
+        poses: np.ndarray,
+        *,
+        frame_id: str = "map",
+        z: float = 0.0,
+    ) -> None:
+        """Log a planar path, rows ``(x, y, yaw)`` (m, m, rad), as PosesInFrame."""
+        poses = np.asarray(poses, dtype=float).reshape(-1, 3)
+        ns = self._stamp(topic, t)
+        message = fm.PosesInFrame(
+            timestamp=_timestamp(ns),
+            frame_id=frame_id,
+            poses=[
+                _pose((x, y, z), quaternion)
+                for (x, y, _), quaternion in zip(poses, _yaw_quaternions(poses[:, 2]), strict=True)
+            ],
+        )
+        self._channel(topic, fc.PosesInFrameChannel).log(message, log_time=ns)
+
+    def log_scan(
+        self, scan: LaserScan, *, topic: str = Topics.SCAN, frame_id: str = "map", z: float = 0.0
+    ) -> None:
+        """Log a scan at its own stamp, placed at its ``sensor_pose`` (map frame) and height z.
+
+        Placing the scan by the sensor pose it was taken from (the sim localises perfectly)
+        keeps it right whatever the TF stream holds. Ranges with no return stay ``inf``.
+        """
+        ns = self._stamp(topic, scan.stamp)
+        sensor = scan.sensor_pose
+        message = fm.LaserScan(
+            timestamp=_timestamp(ns),
+            frame_id=frame_id,
+            pose=_pose((sensor.x, sensor.y, z), yaw_quaternion(sensor.yaw)),
+            start_angle=scan.angle_min,
+            end_angle=scan.angle_max,
+            ranges=[float(r) for r in scan.ranges],
+        )
+        self._channel(topic, fc.LaserScanChannel).log(message, log_time=ns)
+
+    def log_grid(
+        self,
+        topic: str,
+        t: float,
+        data: np.ndarray,
+        *,
+        resolution: float,
+        origin: tuple[float, float],
+        frame_id: str = "map",
+        field: str = "cost",
+    ) -> None:
+        """Log a uint8 grid (a costmap) as a Grid with one uint8 field.
+
+        Args:
+            topic: the topic.
+            t: sim time (s).
+            data: ``data[iy, ix]``, row ``iy`` along +y, column ``ix`` along +x.
+            resolution: cell side (m).
+            origin: position (m) of the outer corner of cell ``[0, 0]`` in ``frame_id``.
+            frame_id: the grid's frame.
+            field: the field name Foxglove colours by.
+        """
+        grid = np.ascontiguousarray(data)
+        if grid.dtype != np.uint8 or grid.ndim != 2:
+            raise ValueError(f"a grid must be a 2D uint8 array, got {grid.dtype} {grid.shape}")
+        ns = self._stamp(topic, t)
+        message = fm.Grid(
+            timestamp=_timestamp(ns),
+            frame_id=frame_id,
+            pose=_pose((origin[0], origin[1], 0.0), IDENTITY),
+            column_count=grid.shape[1],
+            cell_size=fm.Vector2(x=resolution, y=resolution),
+            row_stride=grid.shape[1],
+            cell_stride=1,
+            fields=[
+                fm.PackedElementField(
+                    name=field, offset=0, type=fm.PackedElementFieldNumericType.Uint8
+                )
+            ],
+            data=grid.tobytes(),
+        )
+        self._channel(topic, fc.GridChannel).log(message, log_time=ns)
+
+    # -- scene, arm, JSON ------------------------------------------------------------------------
+
+    def log_scene(
+        self, topic: str, t: float, entities: Sequence[Entity], *, replace_all: bool = False
+    ) -> None:
+        """Log scene entities as a SceneUpdate; entities replace earlier ones with the same id.
+
+        Args:
+            topic: the topic.
+            t: sim time (s).
+            entities: the entities to add or replace.
+            replace_all: delete every entity previously sent on the topic first.
+        """
+        ns = self._stamp(topic, t)
+        stamp = _timestamp(ns)
+        deletions = (
+            [fm.SceneEntityDeletion(timestamp=stamp, type=fm.SceneEntityDeletionType.All)]
+            if replace_all
+            else []
+        )
+        message = fm.SceneUpdate(
+            deletions=deletions, entities=[_scene_entity(entity, stamp) for entity in entities]
+        )
+        self._channel(topic, fc.SceneUpdateChannel).log(message, log_time=ns)
+
+    def log_joint_states(
+        self,
+        t: float,
+        names: Sequence[str],
+        positions: Sequence[float] | np.ndarray,
+        velocities: Sequence[float] | np.ndarray | None = None,
+        efforts: Sequence[float] | np.ndarray | None = None,
+        *,
+        topic: str = Topics.JOINT_STATES,
+    ) -> None:
+        """Log joint positions (rad or m), velocities and efforts (N m or N) as JointStates."""
+        count = len(names)
+        for label, values in (("velocities", velocities), ("efforts", efforts), ("", positions)):
+            if values is not None and len(values) != count:
+                raise ValueError(f"{label or 'positions'}: {len(values)} values for {count} joints")
+        ns = self._stamp(topic, t)
+        joints = [
+            fm.JointState(
+                name=name,
+                position=float(positions[i]),
+                velocity=None if velocities is None else float(velocities[i]),
+                effort=None if efforts is None else float(efforts[i]),
+            )
+            for i, name in enumerate(names)
+        ]
+        message = fm.JointStates(timestamp=_timestamp(ns), joints=joints)
+        self._channel(topic, fc.JointStatesChannel).log(message, log_time=ns)
+
+    def log_json(
+        self, topic: str, t: float, payload: Mapping[str, Any], *, schema: JsonSchema = ANY_OBJECT
+    ) -> None:
+        """Log a JSON object (numpy values and non-finite floats are converted: NaN -> null).
+
+        The schema is fixed by the first message on a topic.
+        """
+        ns = self._stamp(topic, t)
+        text = json.dumps(_jsonable(payload), allow_nan=False, separators=(",", ":"))
+        if topic not in self._channels:
+            channel = foxglove.Channel(
+                topic,
+                schema=foxglove.Schema(
+                    name=schema.name,
+                    encoding="jsonschema",
+                    data=json.dumps(schema.schema).encode(),
+                ),
+                message_encoding="json",
+                context=self._context,
+            )
+            self._channels[topic] = (foxglove.Channel, channel)
+        kind, json_channel = self._channels[topic]
+        if kind is not foxglove.Channel:
+            raise RecordingError(f"topic {topic} already carries {kind.__name__}, not JSON")
+        json_channel.log(text.encode(), log_time=ns)
+
+    # -- internals ------------------------------------------------------------------------------
+
+    def _channel(self, topic: str, kind: type) -> Any:
+        entry = self._channels.get(topic)
+        if entry is None:
+            entry = (kind, kind(topic, context=self._context))
+            self._channels[topic] = entry
+        elif entry[0] is not kind:
+            raise RecordingError(
+                f"topic {topic} already carries {entry[0].__name__}, not {kind.__name__}"
+            )
+        return entry[1]
+
+    def _stamp(self, topic: str, t: float) -> int:
+        """Log time (ns) of sim time ``t`` on ``topic``; broadcasts the time to live sinks."""
+        if not math.isfinite(t) or t < 0:
+            raise RecordingError(f"{topic}: time must be a finite, non-negative sim time, got {t}")
+        ns = self.time_origin_ns + round(t * 1e9)
+        last = self._last_ns.get(topic)
+        if last is not None and ns < last:
+            before = (last - self.time_origin_ns) / 1e9
+            raise RecordingError(f"{topic}: time went backwards, {t:.9f} s after {before:.9f} s")
+        self._last_ns[topic] = ns
+        if ns > self._now_ns:
+            self._now_ns = ns
+            for sink in self._sinks:
+                sink.broadcast_time(ns)
+        return ns
+
+
+class Trail:
+    """A followed path, thinned: a pose is kept once the robot moved or turned enough.
+
+    Args:
+        min_distance: keep a pose this far (m) from the last kept one.
+        min_angle: or turned this much (rad) from it.
+    """
+
+    def __init__(self, min_distance: float = 0.05, min_angle: float = 0.2) -> None:
+        self.min_distance = min_distance
+        self.min_angle = min_angle
+        self._poses: list[tuple[float, float, float]] = []
+
+    def add(self, pose: Pose2D) -> bool:
+        """Add the pose if it is far enough from the last kept one; True if kept."""
+        if self._poses:
+            x, y, yaw = self._poses[-1]
+            turned = abs(math.remainder(pose.yaw - yaw, math.tau))
+            if math.hypot(pose.x - x, pose.y - y) < self.min_distance and turned < self.min_angle:
+                return False
+        self._poses.append((pose.x, pose.y, pose.yaw))
+        return True
+
+    @property
+    def poses(self) -> np.ndarray:
+        """Kept poses, rows ``(x, y, yaw)``."""
+        return np.array(self._poses, dtype=float).reshape(-1, 3)
+
+
+def _yaw_quaternions(yaws: np.ndarray) -> np.ndarray:
+    """Quaternions (x, y, z, w) of rotations by ``yaws`` (rad) about z, one scipy call."""
+    if len(yaws) == 0:
+        return np.empty((0, 4))
+    return np.asarray(Rotation.from_euler("z", yaws.reshape(-1, 1)).as_quat()).reshape(-1, 4)
+
+
+def _timestamp(ns: int) -> fm.Timestamp:
+    sec, nsec = divmod(ns, 1_000_000_000)
+    return fm.Timestamp(sec, nsec)
+
+
+def _vector3(values: Sequence[float] | np.ndarray) -> fm.Vector3:
+    return fm.Vector3(x=float(values[0]), y=float(values[1]), z=float(values[2]))
+
+
+def _quaternion(values: Sequence[float] | np.ndarray) -> fm.Quaternion:
+    x, y, z, w = (float(v) for v in values)
+    return fm.Quaternion(x=x, y=y, z=z, w=w)
+
+
+def _pose(
+    position: Sequence[float] | np.ndarray, orientation: Sequence[float] | np.ndarray
+) -> fm.Pose:
+    return fm.Pose(position=_vector3(position), orientation=_quaternion(orientation))
+
+
+def _color(rgba: Rgba) -> fm.Color:
+    r, g, b, a = rgba
+    return fm.Color(r=r, g=g, b=b, a=a)
+
+
+def _scene_entity(entity: Entity, stamp: fm.Timestamp) -> fm.SceneEntity:
+    cubes, spheres, cylinders = [], [], []
+    for p in entity.primitives:
+        pose, size, color = _pose(p.position, p.orientation), _vector3(p.size), _color(p.colour)
+        if p.shape == "cube":
+            cubes.append(fm.CubePrimitive(pose=pose, size=size, color=color))
+        elif p.shape == "sphere":
+            spheres.append(fm.SpherePrimitive(pose=pose, size=size, color=color))
+        else:
+            cylinders.append(
+                fm.CylinderPrimitive(
+                    pose=pose, size=size, bottom_scale=1.0, top_scale=1.0, color=color
+                )
+            )
+    arrows = [
+        fm.ArrowPrimitive(
+            pose=_pose(a.position, a.orientation),
+            shaft_length=0.7 * a.length,
+            shaft_diameter=0.08 * a.length,
+            head_length=0.3 * a.length,
+            head_diameter=0.2 * a.length,
+            color=_color(a.colour),
+        )
+        for a in entity.arrows
+    ]
+    texts = [
+        fm.TextPrimitive(
+            pose=_pose(label.position, IDENTITY),
+            billboard=True,
+            font_size=label.font_size,
+            color=_color(label.colour),
+            text=label.text,
+        )
+        for label in entity.labels
+    ]
+    return fm.SceneEntity(
+        timestamp=stamp,
+        frame_id=entity.frame_id,
+        id=entity.id,
+        metadata=[fm.KeyValuePair(key=k, value=v) for k, v in entity.metadata.items()],
+        cubes=cubes,
+        spheres=spheres,
+        cylinders=cylinders,
+        arrows=arrows,
+        texts=texts,
+    )
+
+
+def _jsonable(value: Any) -> Any:
+    """``value`` with numpy types as Python ones and non-finite floats as None."""
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple | np.ndarray):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
