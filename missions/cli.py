@@ -3,9 +3,10 @@
 Exit codes (DESIGN §2): 0 as intended, 1 ran but not as intended, 2 invalid input (located
 messages on stderr, never a traceback), 130 interrupted.
 
-Commands here: ``validate``, ``tree``, ``schema``, ``list``. ``run``, ``teleop``, ``campaign``
-and ``nav2`` have their arguments declared (DESIGN §4) and are marked EXTENSION POINT: their
-handlers report "not available yet" until the runner lands.
+Commands here: ``validate``, ``tree``, ``schema``, ``list`` and ``run`` (its work lives in
+:mod:`baobab.missions.run_command`, imported when used so the other commands start fast).
+``teleop``, ``campaign`` and ``nav2`` have their arguments declared (DESIGN §4) and are marked
+EXTENSION POINT: their handlers report "not available yet".
 """
 
 from __future__ import annotations
@@ -239,20 +240,41 @@ def _list(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-# --- EXTENSION POINTS: run, teleop, campaign, nav2 ------------------------------------------
-# The lead replaces each `_not_yet(...)` handler below with the real one; the arguments are
-# already those of DESIGN §4, so scripts and docs can rely on them now.
+# --- run ----------------------------------------------------------------------------------
 
 
 def _configure_run(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mission", metavar="MISSION", help="a mission file")
+    parser.add_argument(
+        "mission", metavar="MISSION", help="a mission file, or the name of a bundled mission"
+    )
     _add_set(parser)
     parser.add_argument("--seed", type=int, help="override the mission's seed")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
     parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
-    parser.add_argument("--viewer", action="store_true", help="show the MuJoCo viewer")
+    parser.add_argument(
+        "--viewer", action="store_true", help="show the MuJoCo viewer (needs a display)"
+    )
     parser.add_argument("--realtime", action="store_true", help="pace the sim to the wall clock")
-    parser.add_argument("--record", type=Path, metavar="FILE.mcap", help="record an MCAP log")
+    parser.add_argument(
+        "--record", type=Path, metavar="FILE.mcap", help="record an MCAP log (not available yet)"
+    )
+    parser.add_argument(
+        "--baseline",
+        type=Path,
+        metavar="FILE",
+        help="compare sim time, path length and recoveries with FILE (created if missing)",
+    )
+
+
+def _run(args: argparse.Namespace) -> int:
+    from baobab.missions.run_command import run_command
+
+    return run_command(args, _overrides(args))
+
+
+# --- EXTENSION POINTS: teleop, campaign, nav2 -----------------------------------------------
+# The lead replaces each `_not_yet(...)` handler below with the real one; the arguments are
+# already those of DESIGN §4, so scripts and docs can rely on them now.
 
 
 def _configure_teleop(parser: argparse.ArgumentParser) -> None:
@@ -286,7 +308,7 @@ def _not_yet(args: argparse.Namespace) -> int:
 
 
 COMMANDS: dict[str, tuple[Callable[[argparse.ArgumentParser], None], Handler, str]] = {
-    "run": (_configure_run, _not_yet, "run a mission (EXTENSION POINT: the runner)"),
+    "run": (_configure_run, _run, "run a mission and write its run folder"),
     "validate": (_configure_validate, _validate, "check mission files without running them"),
     "tree": (_configure_tree, _tree, "print a mission's compiled behaviour tree"),
     "schema": (_configure_schema, _schema, "print the JSON Schema of the mission format"),

@@ -208,7 +208,6 @@ def test_list_names_missions_worlds_robots_and_every_behaviour(
 @pytest.mark.parametrize(
     "argv",
     [
-        ["run", str(DELIVERY), "--set", "table=2", "--seed", "3", "--json"],
         ["teleop", "--world", "cafe"],
         ["campaign", str(DELIVERY), "--runs", "4", "--vary", "start.x=uniform(-0.2,0.2)"],
         ["nav2", "script.py", "--world", "cafe", "--start", "0,0,0"],

@@ -1,0 +1,156 @@
+"""``baobab run``: load, run, judge, write the run folder, report, and choose the exit code.
+
+Order of work, so that invalid input exits 2 with nothing written: the options
+(``--record`` is not available yet; ``--viewer`` needs a display), the mission (a path, or
+the name of a bundled mission ``missions/<name>.yaml``) and its ``--set`` values, the baseline
+file, the run folder, the robot and the tree; only then the run. SIGINT during the run stops
+it at the next tick: the tree is halted, the robot stopped, the result is CANCELED, the run
+folder is written, and the exit code is 130.
+
+``--viewer`` without a display prints a warning on stderr and runs headless (so a script that
+asks for the viewer still gets its run folder); with a display, the run is paced to the wall
+clock.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import signal
+import sys
+import threading
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
+from importlib import resources
+from pathlib import Path
+from types import FrameType
+
+from baobab.missions.baseline import Baseline, compare, read_baseline, write_baseline
+from baobab.missions.loader import load_mission
+from baobab.missions.progress import LineProgress, LiveProgress, print_summary
+from baobab.missions.run_folder import check_run_folder, default_run_folder, write_run_folder
+from baobab.missions.runner import RunRecord, run_mission
+from baobab.sim.errors import BaobabError
+
+
+class MissionNotFoundError(BaobabError):
+    """MISSION is neither a file nor a bundled mission."""
+
+
+def bundled_mission_path(name: str) -> Path | None:
+    """The file of bundled mission ``name`` (``missions/<name>.yaml``), or None."""
+    entry = resources.files("baobab.missions") / f"{name}.yaml"
+    return Path(str(entry)) if entry.is_file() else None
+
+
+def resolve_mission(text: str) -> Path:
+    """MISSION as a file path, or as the name of a bundled mission.
+
+    Raises:
+        MissionNotFoundError: when it is neither.
+    """
+    path = Path(text)
+    if path.is_file():
+        return path
+    if "/" not in text and "\\" not in text and not text.endswith((".yaml", ".yml")):
+        bundled = bundled_mission_path(text)
+        if bundled is not None:
+            return bundled
+    folder = resources.files("baobab.missions")
+    names = sorted(
+        e.name.removesuffix(".yaml") for e in folder.iterdir() if e.name.endswith(".yaml")
+    )
+    raise MissionNotFoundError(
+        f"no mission file '{text}' and no bundled mission of that name "
+        f"(bundled: {', '.join(names) or 'none'})"
+    )
+
+
+@contextmanager
+def sigint_flag() -> Iterator[threading.Event]:
+    """Turn the first SIGINT into a flag the run loop polls; a second one interrupts at once."""
+    flag = threading.Event()
+    if threading.current_thread() is not threading.main_thread():
+        yield flag
+        return
+    previous = signal.getsignal(signal.SIGINT)
+
+    def handler(_signum: int, _frame: FrameType | None) -> None:
+        flag.set()
+        signal.signal(signal.SIGINT, previous)
+
+    signal.signal(signal.SIGINT, handler)
+    try:
+        yield flag
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
+    """The ``run`` handler; returns the exit code (BaobabError means invalid input, exit 2)."""
+    if args.record is not None:
+        raise BaobabError("--record: MCAP recording is not available yet")
+    if args.seed is not None and args.seed < 0:
+        raise BaobabError(f"--seed must be >= 0, got {args.seed}")
+    mission = load_mission(resolve_mission(args.mission), overrides)
+    baseline = read_baseline(args.baseline, mission.name) if args.baseline else None
+    folder: Path = args.out if args.out is not None else default_run_folder(mission.name)
+    check_run_folder(folder)
+
+    stream = sys.stderr if args.json else sys.stdout
+    live = stream.isatty()
+    seed = mission.seed if args.seed is None else args.seed
+    title = f"{mission.name}: {mission.robot.name} in {mission.world_name}, seed {seed}"
+    with sigint_flag() as interrupted:
+        progress: LineProgress | LiveProgress
+        if live:
+            progress = LiveProgress(stream, title)
+        else:
+            progress = LineProgress(stream)
+            stream.write(f"running {title}\n")
+            stream.flush()
+        try:
+            record = run_mission(
+                mission,
+                seed=args.seed,
+                progress=progress,
+                realtime=args.realtime,
+                viewer=args.viewer,
+                interrupted=interrupted.is_set,
+                warn=_warn,
+            )
+        finally:
+            progress.close()
+        if args.baseline is not None:
+            _baseline(record, args.baseline, baseline)
+        result = record.result_object(folder)
+        write_run_folder(folder, result, record.trace.text(), record.plot)
+    if args.json:
+        sys.stdout.write(json.dumps(result) + "\n")
+        sys.stdout.flush()
+    else:
+        print_summary(sys.stdout, result, rich=live)
+    return record.exit_code
+
+
+def _warn(message: str) -> None:
+    print(f"baobab run: {message}", file=sys.stderr)
+
+
+def _baseline(record: RunRecord, path: Path, baseline: Baseline | None) -> None:
+    """Compare with the baseline, or create it from a run that turned out as intended."""
+    if baseline is not None:
+        record.add_expectations(compare(baseline, record.metrics))
+        record.extra["baseline"] = {"file": str(path), "status": "compared"}
+        return
+    if record.intended and not record.outcome.interrupted:
+        write_baseline(
+            path, record.mission.name, record.seed, record.mission.params, record.metrics
+        )
+        record.extra["baseline"] = {"file": str(path), "status": "created"}
+        print(f"baseline created: {path}", file=sys.stderr)
+        return
+    record.extra["baseline"] = {
+        "file": str(path),
+        "status": "not created: the run did not turn out as intended",
+    }

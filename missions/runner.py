@@ -1,0 +1,221 @@
+"""Run a mission: build its robot, compile its tree, loop, measure, judge (DESIGN §2).
+
+:func:`run_mission` is the one entry point the CLI, pytest scenario tests and campaigns share::
+
+    mission = load_mission("missions/walls_go_to_goal.yaml")
+    record = run_mission(mission)
+    record.result_object()["result"]      # "SUCCEEDED"
+    record.exit_code                      # 0: turned out as intended
+
+It returns a :class:`RunRecord`: how the run ended, the metrics, the evaluated expectations,
+the trace (with its digest) and the plot data. Writing the run folder is separate
+(:func:`~baobab.missions.run_folder.write_run_folder`), so tests and campaigns choose.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from baobab.missions.compiler import compile_mission
+from baobab.missions.events import TimedEvents
+from baobab.missions.expectations import (
+    ExpectationResult,
+    RunEnd,
+    all_passed,
+    check_metric_names,
+    evaluate,
+)
+from baobab.missions.loader import Mission
+from baobab.missions.metrics import MetricValue
+from baobab.missions.plotting import PlotData
+from baobab.missions.robots_wiring import build_rig
+from baobab.missions.run_loop import LoopOutcome, MissionErrorCode, ProgressSink, RunLoop
+from baobab.missions.trace import Trace, jsonable
+from baobab.sim.viewer import RealTimePacer, open_viewer
+
+NO_DISPLAY_WARNING = (
+    "--viewer: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); running headless, "
+    "the run folder's plot.png shows the run"
+)
+
+EXIT_OK, EXIT_NOT_INTENDED, EXIT_INTERRUPTED = 0, 1, 130
+
+__all__ = [
+    "EXIT_INTERRUPTED",
+    "EXIT_NOT_INTENDED",
+    "EXIT_OK",
+    "MissionErrorCode",
+    "RunRecord",
+    "run_mission",
+]
+
+
+@dataclass
+class RunRecord:
+    """Everything a finished run produced.
+
+    Attributes:
+        mission: the mission that ran.
+        seed: the seed it ran with.
+        outcome: how the loop ended.
+        metrics: every metric's value.
+        expectations: the evaluated ``expect:`` block, then any added later (baselines).
+        trace: the trace records and their digest.
+        plot: what the run's plot shows.
+        wall_time: wall-clock duration of the loop (s).
+        extra: additional top-level fields for the result object (e.g. ``baseline``).
+    """
+
+    mission: Mission
+    seed: int
+    outcome: LoopOutcome
+    metrics: dict[str, MetricValue]
+    expectations: list[ExpectationResult]
+    trace: Trace
+    plot: PlotData
+    wall_time: float
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def intended(self) -> bool:
+        """With an ``expect:`` block every expectation held; without, the run SUCCEEDED.
+
+        Expectations added later (``baseline.*``) must hold in both cases.
+        """
+        if self.mission.expect is None and self.outcome.result != "SUCCEEDED":
+            return False
+        return all_passed(self.expectations)
+
+    @property
+    def exit_code(self) -> int:
+        """130 when interrupted, else 0 when the run turned out as intended, else 1."""
+        if self.outcome.interrupted:
+            return EXIT_INTERRUPTED
+        return EXIT_OK if self.intended else EXIT_NOT_INTENDED
+
+    @property
+    def trace_digest(self) -> str:
+        """SHA-256 of the deterministic trace."""
+        return self.trace.digest
+
+    def add_expectations(self, results: list[ExpectationResult]) -> None:
+        """Append more checked expectations (they count towards :attr:`intended`)."""
+        self.expectations.extend(results)
+
+    def result_object(self, run_folder: Path | None = None) -> dict[str, Any]:
+        """The JSON result (``result.json`` and ``--json``)."""
+        mission = self.mission
+        outcome = self.outcome
+        world = Path(mission.world_name).name if "/" in mission.world_name else mission.world_name
+        speedup = outcome.sim_time / self.wall_time if self.wall_time > 0 else None
+        return {
+            "mission": mission.name,
+            "mission_file": str(mission.path),
+            "robot": mission.robot.name,
+            "world": world,
+            "seed": self.seed,
+            "params": jsonable(mission.params, None),
+            "result": outcome.result,
+            "error_code": outcome.error_code,
+            "error_name": outcome.error_name,
+            "error_msg": outcome.error_msg,
+            "sim_time": round(outcome.sim_time, 6),
+            "wall_time": round(self.wall_time, 3),
+            "speedup": None if speedup is None else round(speedup, 1),
+            "intended": self.intended,
+            "exit_code": self.exit_code,
+            "metrics": jsonable(self.metrics),
+            "expectations": [jsonable(result.as_dict()) for result in self.expectations],
+            "trace_digest": self.trace.digest,
+            "run_folder": None if run_folder is None else str(run_folder),
+            **self.extra,
+        }
+
+
+def run_mission(
+    mission: Mission,
+    *,
+    seed: int | None = None,
+    progress: ProgressSink | None = None,
+    realtime: bool = False,
+    viewer: bool = False,
+    interrupted: Callable[[], bool] | None = None,
+    warn: Callable[[str], None] | None = None,
+) -> RunRecord:
+    """Run ``mission`` headless and deterministic, and judge it.
+
+    Args:
+        mission: from :func:`~baobab.missions.loader.load_mission`.
+        seed: overrides the mission's seed.
+        progress: receives a snapshot after every tick.
+        realtime: pace the sim to the wall clock.
+        viewer: show MuJoCo's passive viewer, paced to the wall clock; without a display,
+            ``warn`` is told and the run goes on headless.
+        interrupted: polled every tick; True ends the run as CANCELED (SIGINT).
+        warn: receives warnings for people (default: dropped).
+
+    Raises:
+        MissionError: an ``expect: metrics:`` name this run does not measure, or a capability
+            the tree needs that the robot lacks (located, before anything runs).
+        BaobabError: the robot or the world cannot be built.
+    """
+    run_seed = mission.seed if seed is None else seed
+    rig = build_rig(mission, run_seed)
+    check_metric_names(mission, rig.metrics.number_names(), rig.metrics.names())
+    compiled = compile_mission(mission, rig.capabilities)
+    trace = Trace()
+    trace.add(
+        rig.sim.time,
+        "start",
+        mission=mission.name,
+        robot=mission.robot.name,
+        seed=run_seed,
+        params=mission.params,
+        timeout=mission.timeout,
+    )
+    events = TimedEvents(mission.events, rig.obstacles, rig.teleop)
+    handle = None
+    if viewer:
+        handle = open_viewer(
+            rig.sim.model, rig.sim.data, report=lambda _: (warn or _drop)(NO_DISPLAY_WARNING)
+        )
+    pacer = RealTimePacer() if realtime or handle is not None else None
+    loop = RunLoop(
+        compiled,
+        rig,
+        trace,
+        events,
+        mission.timeout,
+        progress=progress,
+        pacer=pacer,
+        interrupted=interrupted,
+        on_tick=None if handle is None else handle.sync,
+    )
+    started = time.perf_counter()
+    try:
+        outcome = loop.run()
+    finally:
+        if handle is not None:
+            handle.close()
+    wall_time = time.perf_counter() - started
+    metrics = rig.metrics.values()
+    end = RunEnd(outcome.result, outcome.error_code, outcome.error_name, outcome.sim_time)
+    expectations = evaluate(mission.expect, end, metrics, mission)
+    plot = rig.plot_data(_title(mission, run_seed, outcome))
+    return RunRecord(mission, run_seed, outcome, metrics, expectations, trace, plot, wall_time)
+
+
+def _drop(_message: str) -> None:
+    """Ignore a warning."""
+
+
+def _title(mission: Mission, seed: int, outcome: LoopOutcome) -> str:
+    error = f" {outcome.error_name}" if outcome.error_code else ""
+    return (
+        f"{mission.name} ({mission.robot.name}, seed {seed}): {outcome.result}{error} "
+        f"after {outcome.sim_time:.1f} s"
+    )
