@@ -34,6 +34,8 @@ _D_COL = np.array([-1, 0, 1, -1, 1, -1, 0, 1], dtype=np.int64)
 # integer costs make equal-cost ties exact, so ties can be broken towards the goal.
 _CARDINAL = np.int64(408)
 _DIAGONAL = np.int64(577)
+CARDINAL_STEP = int(_CARDINAL)
+"""A cardinal step's length in the search's integer cost units (a diagonal step is 577)."""
 _UNREACHED = np.int64(1) << 62
 # Cell states during a search (a cell nobody marked in this search is new).
 _OPEN, _CLOSED = 1, 2

@@ -1,7 +1,8 @@
 """Costmap layers: static (world geometry), obstacle (lidar marking and clearing), inflation.
 
-Each layer works on whole numpy arrays; there is no per-cell Python loop. The layers share one
-cell lattice: cell ``(i, j)`` of the lattice is the square
+Each layer works on whole arrays, with numpy or compiled (numba) kernels for ray tracing and
+the distance transform; there is no per-cell Python loop. The layers share one cell lattice:
+cell ``(i, j)`` of the lattice is the square
 ``[origin_x + i * res, origin_x + (i + 1) * res) x [origin_y + j * res, ...)`` of the static
 raster, and a rolling window is a rectangle of whole lattice cells, so its static cells are a
 slice of the raster.
@@ -12,8 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
-from scipy import ndimage
 
 from baobab.nav.costmap import (
     FREE_SPACE,
@@ -210,40 +211,114 @@ class ObstacleLayer:
             return None
         pose = scan.sensor_pose
         headings = pose.yaw + scan.angles
-        cos_h, sin_h = np.cos(headings), np.sin(headings)
         lower = max(scan.range_min, 0.0)
         valid = ~np.isnan(ranges) & (ranges >= lower)
         hit = valid & np.isfinite(ranges)
-        # Clear: sample each beam every half cell from the sensor to its clearing length.
         clear_to = np.where(hit, np.minimum(ranges, p.raytrace_max_range), p.raytrace_max_range)
         clear_to = np.where(valid, clear_to, 0.0)
-        step = grid.resolution / 2
-        t = np.arange(max(p.raytrace_min_range, 0.0), float(clear_to.max(initial=0.0)), step)
-        ix, iy, inside = grid.world_to_map_array(
-            pose.x + cos_h[:, None] * t[None, :], pose.y + sin_h[:, None] * t[None, :]
+        mark = hit & (ranges < p.obstacle_max_range) & (ranges >= p.obstacle_min_range)
+        # Clear: sample each beam every half cell from the sensor to its clearing length.
+        t = np.arange(
+            max(p.raytrace_min_range, 0.0), float(clear_to.max(initial=0.0)), grid.resolution / 2
         )
-        hit_range = np.where(hit, ranges, 0.0)
-        end_x, end_y, end_inside = grid.world_to_map_array(
-            pose.x + cos_h * hit_range, pose.y + sin_h * hit_range
+        bounds = np.zeros(4, dtype=np.int64)
+        changed = _trace_scan(
+            grid.data,
+            grid.origin_x,
+            grid.origin_y,
+            grid.resolution,
+            pose.x,
+            pose.y,
+            np.cos(headings),
+            np.sin(headings),
+            np.where(hit, ranges, 0.0),
+            hit,
+            mark,
+            clear_to,
+            t,
+            bounds,
         )
-        # The hit cell stays: beams that end in it must not clear the obstacle they see.
-        in_hit_cell = hit[:, None] & (ix == end_x[:, None]) & (iy == end_y[:, None])
-        clear = inside & (t[None, :] < clear_to[:, None]) & ~in_hit_cell
-        mark = hit & end_inside & (ranges < p.obstacle_max_range)
-        mark &= ranges >= p.obstacle_min_range
-        cells_x = np.concatenate([ix[clear], end_x[mark]])
-        cells_y = np.concatenate([iy[clear], end_y[mark]])
-        before = grid.data[cells_y, cells_x]
-        grid.data[iy[clear], ix[clear]] = FREE_SPACE
-        grid.data[end_y[mark], end_x[mark]] = LETHAL_OBSTACLE
-        changed = grid.data[cells_y, cells_x] != before
-        if not changed.any():
+        if not changed:
             return None
-        return _bounds_of(cells_x[changed], cells_y[changed])
+        return (int(bounds[0]), int(bounds[1]), int(bounds[2]), int(bounds[3]))
 
 
-def _bounds_of(ix: np.ndarray, iy: np.ndarray) -> Bounds:
-    return (int(ix.min()), int(iy.min()), int(ix.max()) + 1, int(iy.max()) + 1)
+@numba.njit(cache=True, nogil=True)
+def _trace_scan(
+    data: np.ndarray,
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+    x: float,
+    y: float,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
+    hit_range: np.ndarray,
+    hit: np.ndarray,
+    mark: np.ndarray,
+    clear_to: np.ndarray,
+    t: np.ndarray,
+    bounds: np.ndarray,
+) -> bool:  # pragma: no cover - compiled
+    """Clear every beam's cells up to ``clear_to`` (the hit cell excluded), then mark the hits.
+
+    Writes the bounds ``(ix0, iy0, ix1, iy1)`` of the cells whose value changed into
+    ``bounds`` and returns whether any did. A cell cleared by one beam and marked again by
+    another keeps its value and does not count as changed.
+    """
+    height, width = data.shape
+    beams = cos_h.shape[0]
+    end_x = np.empty(beams, dtype=np.int64)
+    end_y = np.empty(beams, dtype=np.int64)
+    for b in range(beams):
+        end_x[b] = int(np.floor((x + cos_h[b] * hit_range[b] - origin_x) / resolution))
+        end_y[b] = int(np.floor((y + sin_h[b] * hit_range[b] - origin_y) / resolution))
+    # The window every touched cell lies in: its old values decide what changed.
+    reach = 0.0
+    for b in range(beams):
+        reach = max(reach, clear_to[b])
+        if mark[b]:
+            reach = max(reach, hit_range[b])
+    wx0 = max(int(np.floor((x - reach - origin_x) / resolution)) - 1, 0)
+    wy0 = max(int(np.floor((y - reach - origin_y) / resolution)) - 1, 0)
+    wx1 = min(int(np.floor((x + reach - origin_x) / resolution)) + 2, width)
+    wy1 = min(int(np.floor((y + reach - origin_y) / resolution)) + 2, height)
+    if wx0 >= wx1 or wy0 >= wy1:
+        return False
+    before = data[wy0:wy1, wx0:wx1].copy()
+    for b in range(beams):
+        entered = False
+        for k in range(t.shape[0]):
+            if not t[k] < clear_to[b]:
+                break
+            ix = int(np.floor((x + cos_h[b] * t[k] - origin_x) / resolution))
+            iy = int(np.floor((y + sin_h[b] * t[k] - origin_y) / resolution))
+            if ix < 0 or ix >= width or iy < 0 or iy >= height:
+                if entered:
+                    break  # a ray leaves a rectangle once
+                continue
+            entered = True
+            if hit[b] and ix == end_x[b] and iy == end_y[b]:
+                continue
+            data[iy, ix] = FREE_SPACE
+    for b in range(beams):
+        ix, iy = end_x[b], end_y[b]
+        if mark[b] and 0 <= ix < width and 0 <= iy < height:
+            data[iy, ix] = LETHAL_OBSTACLE
+    changed = False
+    for j in range(wy1 - wy0):
+        for i in range(wx1 - wx0):
+            if data[wy0 + j, wx0 + i] != before[j, i]:
+                gx, gy = wx0 + i, wy0 + j
+                if not changed:
+                    bounds[0], bounds[1], bounds[2], bounds[3] = gx, gy, gx + 1, gy + 1
+                    changed = True
+                else:
+                    bounds[0] = min(bounds[0], gx)
+                    bounds[1] = min(bounds[1], gy)
+                    bounds[2] = max(bounds[2], gx + 1)
+                    bounds[3] = max(bounds[3], gy + 1)
+    return changed
 
 
 @dataclass(frozen=True)
@@ -260,7 +335,9 @@ class InflationLayer:
 
     For the distance ``d`` (m) between cell centres: 254 at ``d = 0``, 253 for
     ``d <= inscribed_radius``, ``floor(252 * exp(-k * (d - inscribed_radius)))`` up to
-    ``inflation_radius``, 0 beyond. Distances come from ``scipy.ndimage.distance_transform_edt``.
+    ``inflation_radius``, 0 beyond. Distances are exact Euclidean distance transforms
+    (Felzenszwalb and Huttenlocher's two-pass algorithm, compiled), the same numbers as
+    ``scipy.ndimage.distance_transform_edt`` in a fraction of its time.
     """
 
     def __init__(self, params: InflationParams | None = None) -> None:
@@ -284,10 +361,7 @@ class InflationLayer:
             return np.zeros(lethal.shape, dtype=np.uint8)
         # Squared distances between cell centres are whole numbers of cells squared, so the
         # cost is a table lookup instead of an exp() per cell.
-        table = self._cost_table(resolution)
-        cells = np.asarray(ndimage.distance_transform_edt(~lethal))
-        squared = np.minimum(np.rint(cells * cells), len(table) - 1).astype(np.intp)
-        return table[squared]
+        return _inflation_costs(np.ascontiguousarray(lethal), self._cost_table(resolution))
 
     def _cost_table(self, resolution: float) -> np.ndarray:
         """Cost by squared cell distance, zero from the first square beyond the radius."""
@@ -302,3 +376,70 @@ class InflationLayer:
     def margin_cells(self, resolution: float) -> int:
         """How many cells a lethal cell's inflation reaches."""
         return math.ceil(self.params.inflation_radius / resolution - 1e-9)
+
+
+@numba.njit(cache=True, nogil=True)
+def _inflation_costs(lethal: np.ndarray, table: np.ndarray) -> np.ndarray:  # pragma: no cover
+    """``table[d2]`` per cell, ``d2`` the squared distance (cells) to the nearest lethal cell.
+
+    Squared distances at or beyond the table's last index read its last entry. The exact
+    squared Euclidean distance transform is separable: first the distance to the nearest
+    lethal cell in each column, then per row the lower envelope of the parabolas
+    ``(x - k)^2 + column[k]^2`` (Felzenszwalb & Huttenlocher, 2012).
+    """
+    h, w = lethal.shape
+    far = h * h + w * w + 1  # more than any squared distance on the grid
+    column = np.empty((h, w), dtype=np.int64)
+    for j in range(w):
+        d = far
+        for i in range(h):
+            if lethal[i, j]:
+                d = 0
+            elif d < far:
+                d += 1
+            column[i, j] = d
+        d = far
+        for i in range(h - 1, -1, -1):
+            if lethal[i, j]:
+                d = 0
+            elif d < far:
+                d += 1
+            if d < column[i, j]:
+                column[i, j] = d
+    last = table.shape[0] - 1
+    out = np.empty((h, w), dtype=np.uint8)
+    sites = np.empty(w, dtype=np.int64)
+    bounds = np.empty(w + 1, dtype=np.float64)
+    for i in range(h):
+        count = 0
+        for k in range(w):
+            gk = column[i, k]
+            if gk >= far:
+                continue
+            fk = gk * gk + k * k
+            while count > 0:
+                q = sites[count - 1]
+                s = (fk - (column[i, q] * column[i, q] + q * q)) / (2.0 * (k - q))
+                if s > bounds[count - 1]:
+                    break
+                count -= 1
+            if count == 0:
+                bounds[0] = -np.inf
+            else:
+                q = sites[count - 1]
+                bounds[count] = (fk - (column[i, q] * column[i, q] + q * q)) / (2.0 * (k - q))
+            sites[count] = k
+            count += 1
+        if count == 0:
+            for j in range(w):
+                out[i, j] = table[last]
+            continue
+        bounds[count] = np.inf
+        c = 0
+        for j in range(w):
+            while bounds[c + 1] < j:
+                c += 1
+            q = sites[c]
+            d2 = (j - q) * (j - q) + column[i, q] * column[i, q]
+            out[i, j] = table[min(d2, last)]
+    return out

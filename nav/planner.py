@@ -88,9 +88,11 @@ class GlobalPlanner:
             NavigationError: with a :class:`ComputePathToPoseError` code (START_OUTSIDE_MAP,
                 GOAL_OUTSIDE_MAP, START_OCCUPIED, GOAL_OCCUPIED, NO_VALID_PATH, TIMEOUT).
         """
-        raw = self.search(start, goal, costmap)
-        final_yaw = goal.yaw
-        path = Path.from_points(raw.points, final_yaw)
+        return self.path_of(self.search(start, goal, costmap), goal, costmap)
+
+    def path_of(self, raw: RawPlan, goal: Pose2D, costmap: Costmap2D) -> Path:
+        """The path :meth:`create_plan` makes of a search result: smoothed, poses oriented."""
+        path = Path.from_points(raw.points, goal.yaw)
         if self.smoother is not None:
             path = self.smoother.smooth(path, costmap).path
         if self.params.use_final_approach_orientation and len(path) > 1:

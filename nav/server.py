@@ -1,0 +1,478 @@
+"""The navigation server: Nav2's planner, controller and behaviour servers and BT navigators.
+
+One :class:`NavigationServer` per mobile robot owns the global costmap (the world's static
+geometry, lidar obstacles, inflation), the rolling 3 m x 3 m local costmap, the planner and
+smoother, the Regulated Pure Pursuit controller with its goal and progress checkers, the
+recovery behaviours, and at most one running task. Every task method returns a
+:class:`~baobab.sim.tasks.TaskHandle` at once; the work happens inside sim callbacks:
+
+- local costmap update 5 Hz, global costmap update 1 Hz (each takes the latest scan, Nav2's
+  ``observation_persistence`` 0);
+- the active task's tick at the controller rate (20 Hz; behaviours cycle at 10 Hz).
+
+Goals while a task runs (the choice, following Nav2's action servers):
+
+- same type, navigation or FollowPath or FollowWaypoints: preempted in place. The robot keeps
+  going towards the new goal, which is planned for on the next tick; navigation time and
+  recoveries restart; the old handle ends FAILED with error code 0 ("preempted"), as Nav2
+  aborts it with an empty result.
+- same type, a behaviour (spin, back up, ...): behaviours cannot be preempted in Nav2; the
+  old one is aborted the same way (FAILED, code 0) and the new one starts.
+- another type: the running task is canceled (CANCELED) and the new one starts. (Nav2 wants
+  an explicit cancel first; doing it here is what a caller would do anyway.)
+
+``cancel()`` (or the handle's) halts the task and commands zero velocity at once.
+
+The server satisfies ``baobab.behaviours.ports.NavigationPort`` structurally; ``nav`` does
+not import ``behaviours`` (dependencies point the other way).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from baobab.nav.behaviors import (
+    AssistedTeleop,
+    BackUp,
+    BehaviorContext,
+    BehaviorParams,
+    ClearCostmaps,
+    DriveOnHeading,
+    Spin,
+    TeleopInput,
+    Wait,
+)
+from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
+from baobab.nav.costmap import Costmap2D
+from baobab.nav.errors import NavigationError, SmoothPathError
+from baobab.nav.footprint import collision_mask
+from baobab.nav.interfaces import MobileBase, ScanSource, ServerTask
+from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
+from baobab.nav.layers import StaticLayer
+from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
+from baobab.nav.path import Path
+from baobab.nav.planner import GlobalPlanner, PlannerParams
+from baobab.nav.smoother import SimpleSmoother
+from baobab.nav.through_poses import ThroughPosesPlanner
+from baobab.nav.waypoints import WaypointFollower
+from baobab.sim.lidar import LaserScan
+from baobab.sim.simulation import PeriodicHandle, Simulation
+from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
+from baobab.sim.world import Pose2D, World
+
+
+@dataclass(frozen=True)
+class NavigationParams:
+    """Every navigation setting; Nav2's defaults with the TurtleBot3 Burger's figures."""
+
+    global_costmap: CostmapParams = field(default_factory=CostmapParams)
+    local_costmap: CostmapParams = field(default_factory=CostmapParams)
+    local_costmap_size: tuple[float, float] = (3.0, 3.0)
+    local_costmap_update_hz: float = 5.0
+    global_costmap_update_hz: float = 1.0
+    planner: PlannerParams = field(default_factory=PlannerParams)
+    smoother: SimpleSmoother = field(default_factory=SimpleSmoother)
+    controller: ControllerParams = field(default_factory=ControllerParams)
+    behaviors: BehaviorParams = field(default_factory=BehaviorParams)
+    navigator: NavigatorParams = field(default_factory=NavigatorParams)
+    waypoint_loop_rate: float = 20.0
+
+
+@dataclass
+class _Active:
+    handle: TaskHandle
+    task: ServerTask
+    next_tick: float
+
+
+_CANCELED = TaskOutcome(TaskStatus.CANCELED, 0, "canceled")
+
+
+def _preempted(name: str) -> TaskOutcome:
+    return TaskOutcome(TaskStatus.FAILED, 0, f"preempted by a new {name} goal")
+
+
+class NavigationServer:
+    """Nav2-style navigation for one mobile base in a simulation.
+
+    Args:
+        sim: the simulation; the server registers its periodic callbacks there.
+        base: the robot's base (``pose``, ``body_velocity``, ``command``, ``stop``).
+        world: the world whose static geometry makes the static costmap layer.
+        lidar: where scans come from (``subscribe``/``unsubscribe``); None leaves the
+            obstacle layers empty.
+        params: settings; Nav2's defaults for the Burger when omitted.
+    """
+
+    def __init__(
+        self,
+        sim: Simulation,
+        base: MobileBase,
+        world: World,
+        *,
+        lidar: ScanSource | None = None,
+        params: NavigationParams | None = None,
+    ) -> None:
+        self.params = p = params or NavigationParams()
+        self.sim = sim
+        self.base = base
+        self.world = world
+        static = StaticLayer(world, p.global_costmap.resolution)
+        local_static = (
+            static
+            if p.local_costmap.resolution == p.global_costmap.resolution
+            else StaticLayer(world, p.local_costmap.resolution)
+        )
+        self.global_layers = LayeredCostmap.global_costmap(world, p.global_costmap, static)
+        self.local_layers = LayeredCostmap.local_costmap(
+            world, base.pose(), p.local_costmap, p.local_costmap_size, local_static
+        )
+        self.planner = GlobalPlanner(p.planner, p.smoother)
+        self.through_poses = ThroughPosesPlanner(self.planner)
+        self.smoother = p.smoother
+        self.follower = PathFollower(base, self.local_costmap, p.controller)
+        self.teleop_input = TeleopInput()
+        self.behavior_context = BehaviorContext(
+            base, self.local_costmap, p.behaviors, self.teleop_input
+        )
+        self.metrics = NavigationMetrics()
+        self._clear = ClearCostmaps(self.local_layers, self.global_layers)
+        self._active: _Active | None = None
+        self._lidar = lidar
+        self._latest_scan: LaserScan | None = None
+        self._local_scan: LaserScan | None = None
+        self._global_scan: LaserScan | None = None
+        self._last_pose = base.pose()
+        if lidar is not None:
+            lidar.subscribe(self._on_scan)
+        self._timers: list[PeriodicHandle] = [
+            sim.every(1.0 / p.local_costmap_update_hz, self._update_local, name="nav local"),
+            sim.every(1.0 / p.global_costmap_update_hz, self._update_global, name="nav global"),
+            sim.every(
+                1.0 / p.controller.controller_frequency, self._on_control, name="nav control"
+            ),
+        ]
+
+    # -- tasks (the NavigationPort) -----------------------------------------------------------
+
+    def navigate_to_pose(self, goal: Pose2D) -> TaskHandle:
+        """Plan and drive to ``goal`` (map frame), replanning at 1 Hz, with recoveries."""
+        return self._submit(
+            "navigate_to_pose",
+            lambda: self._navigate_task([goal], through_poses=False),
+            lambda task: _preempt_navigation(task, [goal]),
+        )
+
+    def navigate_through_poses(self, goals: Sequence[Pose2D]) -> TaskHandle:
+        """Drive through ``goals`` in order without stopping at the intermediate ones."""
+        goal_list = list(goals)
+        return self._submit(
+            "navigate_through_poses",
+            lambda: self._navigate_task(goal_list, through_poses=True),
+            lambda task: _preempt_navigation(task, goal_list),
+        )
+
+    def follow_waypoints(
+        self,
+        waypoints: Sequence[Pose2D],
+        wait_at_waypoint: float = 0.0,
+        stop_on_failure: bool = True,
+        *,
+        number_of_loops: int = 0,
+        goal_index: int = 0,
+    ) -> TaskHandle:
+        """Navigate to each waypoint in turn and pause ``wait_at_waypoint`` s (sim) at each.
+
+        ``missed_waypoints`` in the feedback lists the waypoints that could not be reached;
+        with ``stop_on_failure`` the first one ends the task (STOP_ON_MISSED_WAYPOINT).
+        """
+        points = list(waypoints)
+
+        def make() -> ServerTask:
+            return WaypointFollower(
+                points,
+                lambda pose: self._navigate_task([pose], through_poses=False),
+                wait_at_waypoint=wait_at_waypoint,
+                stop_on_failure=stop_on_failure,
+                loop_rate=self.params.waypoint_loop_rate,
+                number_of_loops=number_of_loops,
+                goal_index=goal_index,
+            )
+
+        def preempt(task: ServerTask) -> bool:
+            if not isinstance(task, WaypointFollower):
+                return False
+            task.preempt(
+                points,
+                wait_at_waypoint=wait_at_waypoint,
+                stop_on_failure=stop_on_failure,
+                number_of_loops=number_of_loops,
+            )
+            return True
+
+        return self._submit("follow_waypoints", make, preempt)
+
+    def follow_path(self, path: Sequence[Pose2D] | Path) -> TaskHandle:
+        """Track ``path`` (map frame) with the controller alone, no planning."""
+        plan = path if isinstance(path, Path) else _path_of(path)
+
+        def preempt(task: ServerTask) -> bool:
+            if not isinstance(task, FollowPathTask):
+                return False
+            task.preempt(plan)
+            return True
+
+        return self._submit("follow_path", lambda: FollowPathTask(plan, self.follower), preempt)
+
+    def spin(self, target_yaw: float = 1.57, time_allowance: float = 10.0) -> TaskHandle:
+        """Turn in place by ``target_yaw`` rad (signed); ``time_allowance`` 0 means no limit."""
+        return self._submit(
+            "spin", lambda: Spin(self.behavior_context, target_yaw, time_allowance), None
+        )
+
+    def back_up(
+        self, distance: float = 0.15, speed: float = 0.025, time_allowance: float = 10.0
+    ) -> TaskHandle:
+        """Reverse ``|distance|`` m at ``|speed|`` m/s (at least 0.10 m/s, Nav2's minimum)."""
+        return self._submit(
+            "back_up",
+            lambda: BackUp(self.behavior_context, distance, speed, time_allowance),
+            None,
+        )
+
+    def drive_on_heading(
+        self, distance: float = 0.15, speed: float = 0.025, time_allowance: float = 10.0
+    ) -> TaskHandle:
+        """Drive straight ``distance`` m at ``speed`` m/s (same signs; negative is backwards)."""
+        return self._submit(
+            "drive_on_heading",
+            lambda: DriveOnHeading(self.behavior_context, distance, speed, time_allowance),
+            None,
+        )
+
+    def wait(self, duration: float) -> TaskHandle:
+        """Nav2's Wait behaviour: ``duration`` s of sim time."""
+        return self._submit("wait", lambda: Wait(self.behavior_context, duration), None)
+
+    def assisted_teleop(self, time_allowance: float = 30.0) -> TaskHandle:
+        """Drive by :meth:`teleop_command` through the collision projection.
+
+        Ends SUCCEEDED on :meth:`preempt_teleop`, FAILED (TIMEOUT) after ``time_allowance`` s
+        (0: no limit).
+        """
+        return self._submit(
+            "assisted_teleop",
+            lambda: AssistedTeleop(self.behavior_context, time_allowance),
+            None,
+        )
+
+    def teleop_command(self, linear: float, angular: float) -> None:
+        """The teleop twist (m/s, rad/s) assisted teleop passes on (``cmd_vel_teleop``).
+
+        Raises:
+            ValueError: if either value is not finite.
+        """
+        if not (math.isfinite(linear) and math.isfinite(angular)):
+            raise ValueError(f"teleop command must be finite, got ({linear}, {angular})")
+        self.teleop_input.linear = linear
+        self.teleop_input.angular = angular
+
+    def preempt_teleop(self) -> None:
+        """End a running assisted teleop with success (``preempt_teleop``)."""
+        self.teleop_input.preempt_requested = True
+
+    def cancel(self) -> None:
+        """Cancel the running task, if any: CANCELED, robot commanded to stop at once."""
+        if self._active is not None:
+            self._active.handle.cancel()
+
+    @property
+    def active_task(self) -> TaskHandle | None:
+        """The handle of the running task, or None."""
+        return None if self._active is None else self._active.handle
+
+    @property
+    def current_path(self) -> Path | None:
+        """The path the controller follows now (None when no task drives)."""
+        return None if self._active is None else self.follower.path
+
+    # -- synchronous services -----------------------------------------------------------------
+
+    def robot_pose(self) -> Pose2D:
+        """The robot's pose in the map frame."""
+        return self.base.pose()
+
+    def compute_path(self, start: Pose2D | None, goal: Pose2D) -> Path:
+        """Plan on the global costmap from ``start`` (None: the robot's pose) to ``goal``.
+
+        Raises:
+            NavigationError: ComputePathToPose codes (START/GOAL_OUTSIDE_MAP, ..._OCCUPIED,
+                NO_VALID_PATH, TIMEOUT).
+        """
+        origin = self.robot_pose() if start is None else start
+        return self.planner.create_plan(origin, goal, self.global_layers.costmap)
+
+    def compute_path_through_poses(self, start: Pose2D | None, goals: Sequence[Pose2D]) -> Path:
+        """Plan from ``start`` (None: the robot) through ``goals`` in order, one leg each.
+
+        Raises:
+            NavigationError: ComputePathThroughPoses codes (3xx).
+        """
+        origin = self.robot_pose() if start is None else start
+        return self.through_poses.plan(origin, goals, self.global_layers.costmap)
+
+    def smooth_path(self, path: Path, *, check_for_collisions: bool = False) -> Path:
+        """Nav2's Simple Smoother on the global costmap.
+
+        Raises:
+            NavigationError: SmoothPath INVALID_PATH for an empty path,
+                SMOOTHED_PATH_IN_COLLISION when asked to check and a pose collides.
+        """
+        if len(path) == 0:
+            raise NavigationError(SmoothPathError.INVALID_PATH, "the path has no poses")
+        costmap = self.global_layers.costmap
+        smoothed = self.smoother.smooth(path, costmap).path
+        if (
+            check_for_collisions
+            and collision_mask(costmap, smoothed.xy[:, 0], smoothed.xy[:, 1]).any()
+        ):
+            raise NavigationError(
+                SmoothPathError.SMOOTHED_PATH_IN_COLLISION, "the smoothed path collides"
+            )
+        return smoothed
+
+    def clear_costmaps(self, which: str = "all") -> None:
+        """Clear the obstacle layers of the ``local``, ``global`` or ``all`` costmaps."""
+        self._clear(which)
+
+    def global_costmap(self) -> Costmap2D:
+        """The global costmap, up to date."""
+        return self.global_layers.costmap
+
+    def local_costmap(self) -> Costmap2D:
+        """The local (rolling) costmap, up to date."""
+        return self.local_layers.costmap
+
+    def close(self) -> None:
+        """Cancel the running task and stop every callback and subscription."""
+        self.cancel()
+        for timer in self._timers:
+            timer.cancel()
+        if self._lidar is not None:
+            self._lidar.unsubscribe(self._on_scan)
+
+    # -- internals ----------------------------------------------------------------------------
+
+    def _navigate_task(self, goals: list[Pose2D], *, through_poses: bool) -> NavigateTask:
+        return NavigateTask(
+            goals,
+            through_poses=through_poses,
+            services=self,
+            follower=self.follower,
+            behaviors=self.behavior_context,
+            params=self.params.navigator,
+            metrics=self.metrics,
+            clock=self._clock,
+        )
+
+    def _clock(self) -> float:
+        return self.sim.time
+
+    def _submit(
+        self,
+        name: str,
+        make: Callable[[], ServerTask],
+        preempt: Callable[[ServerTask], bool] | None,
+    ) -> TaskHandle:
+        handle = TaskHandle(name, self._on_cancel)
+        active = self._active
+        if active is not None:
+            if active.handle.name == name and preempt is not None and preempt(active.task):
+                previous, active.handle = active.handle, handle
+                handle.feedback = active.task.feedback
+                previous.finish(_preempted(name))
+                return handle
+            self._active = None
+            active.task.halt()
+            self.base.stop()
+            same = active.handle.name == name
+            active.handle.finish(_preempted(name) if same else _CANCELED)
+        task = make()
+        handle.feedback = task.feedback
+        self._active = _Active(handle, task, next_tick=self.sim.time)
+        return handle
+
+    def _on_cancel(self, handle: TaskHandle) -> None:
+        active = self._active
+        if active is None or active.handle is not handle:
+            return
+        self._active = None
+        active.task.halt()
+        self.base.stop()
+        handle.finish(_CANCELED)
+
+    def _on_scan(self, scan: LaserScan) -> None:
+        self._latest_scan = scan
+
+    def _update_local(self, _now: float) -> None:
+        scan = self._latest_scan
+        fresh = scan is not None and scan is not self._local_scan
+        self._local_scan = scan
+        self.local_layers.update(self.base.pose(), [scan] if fresh and scan is not None else [])
+
+    def _update_global(self, _now: float) -> None:
+        scan = self._latest_scan
+        if scan is not None and scan is not self._global_scan:
+            self._global_scan = scan
+            self.global_layers.add_scan(scan)
+
+    def _on_control(self, now: float) -> None:
+        pose = self.base.pose()
+        self.metrics.distance_driven += math.hypot(
+            pose.x - self._last_pose.x, pose.y - self._last_pose.y
+        )
+        self._last_pose = pose
+        active = self._active
+        if active is None or now < active.next_tick - 1e-9:
+            return
+        active.next_tick = now + active.task.period
+        outcome = active.task.tick(now)
+        if outcome is not None and self._active is active:
+            self._active = None
+            self.base.stop()
+            active.handle.finish(outcome)
+
+
+def _preempt_navigation(task: ServerTask, goals: list[Pose2D]) -> bool:
+    if not isinstance(task, NavigateTask):
+        return False
+    task.preempt(goals)
+    return True
+
+
+def _path_of(poses: Sequence[Pose2D]) -> Path:
+    return Path(np.array([[pose.x, pose.y, pose.yaw] for pose in poses], dtype=float))
+
+
+def build_navigation(
+    sim: Simulation,
+    robot_base: MobileBase,
+    lidar: ScanSource | None,
+    world: World,
+    *,
+    params: NavigationParams | None = None,
+) -> NavigationServer:
+    """Wire a navigation server to an already-built robot (the mission runner's factory).
+
+    Args:
+        sim: the simulation the robot lives in.
+        robot_base: the robot's base, e.g. a TurtleBot3's ``DiffDriveBase``.
+        lidar: its scanner, e.g. the TurtleBot3's ``Lidar``, or None.
+        world: the world the simulation was built from.
+        params: navigation settings (defaults: Nav2's, for the Burger).
+    """
+    return NavigationServer(sim, robot_base, world, lidar=lidar, params=params)

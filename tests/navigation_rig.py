@@ -1,0 +1,107 @@
+"""Shared set-up for the navigation tests: a TurtleBot3 wired to a NavigationServer.
+
+The rig is what a mission runner builds: ``build_turtlebot3_sim`` for the robot, then
+``build_navigation`` with the robot's base and lidar. A contact watch checks every 10 ms of
+sim time whether any robot geom touches an obstacle (static or movable geom).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from baobab.nav import NavigationServer, build_navigation
+from baobab.robots.turtlebot3 import TurtleBot3, build_turtlebot3_sim
+from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP, movable_slot_name
+from baobab.sim.simulation import Simulation
+from baobab.sim.tasks import TaskHandle, TaskStatus
+from baobab.sim.world import Pose2D, World, load_world
+
+CONTACT_PERIOD = 0.01
+"""How often (s of sim time) the contact watch looks."""
+
+
+class ContactWatch:
+    """Names of the obstacle geoms a robot touched, checked every 10 ms of sim time."""
+
+    def __init__(self, sim: Simulation, robot_body: str) -> None:
+        model = sim.model
+        root = model.body(robot_body).id
+        robot = np.flatnonzero(model.body_rootid[model.geom_bodyid] == root)
+        obstacles = np.flatnonzero(
+            (model.geom_group == STATIC_GROUP) | (model.geom_group == MOVABLE_GROUP)
+        )
+        self._robot = set(robot.tolist())
+        self._obstacles = set(obstacles.tolist())
+        self._sim = sim
+        self.touched: set[str] = set()
+        self.checks = 0
+        sim.every(CONTACT_PERIOD, self._check, name="contact watch")
+
+    def _check(self, _now: float) -> None:
+        self.checks += 1
+        data = self._sim.data
+        for a, b in data.contact.geom[: data.ncon].tolist():
+            if (a in self._robot and b in self._obstacles) or (
+                b in self._robot and a in self._obstacles
+            ):
+                other = b if a in self._robot else a
+                self.touched.add(self._sim.model.geom(other).name)
+
+
+@dataclass
+class NavRig:
+    """A robot in a world with its navigation server and contact watch."""
+
+    world: World
+    sim: Simulation
+    robot: TurtleBot3
+    server: NavigationServer
+    contacts: ContactWatch
+
+    def run(self, handle: TaskHandle, limit: float) -> float:
+        """Step until ``handle`` ends; the sim seconds it took. Fails past ``limit`` s."""
+        start = self.sim.time
+        while handle.status is TaskStatus.RUNNING:
+            if self.sim.time - start > limit:
+                raise AssertionError(f"{handle.name} still running after {limit} s of sim time")
+            self.sim.step_for(0.05)
+        return self.sim.time - start
+
+    def pose(self) -> Pose2D:
+        """The robot's ground-truth pose."""
+        return self.robot.base.pose()
+
+    def place_box(self, slot: int, x: float, y: float) -> None:
+        """Move movable obstacle slot ``slot`` (a 0.3 m cube) to ``(x, y)`` (m)."""
+        body = self.sim.model.body(movable_slot_name(slot))
+        self.sim.data.mocap_pos[body.mocapid[0]] = [x, y, 0.25]
+        mujoco.mj_forward(self.sim.model, self.sim.data)
+
+    def wheel_speeds(self) -> tuple[float, float]:
+        """Left and right wheel joint speeds (rad/s)."""
+        data, names = self.sim.data, self.robot.names
+        left, right = (float(data.joint(name).qvel[0]) for name in names.wheel_joints)
+        return left, right
+
+
+def make_rig(world: World | str, start: Pose2D | None = None) -> NavRig:
+    """Build the robot in ``world`` at ``start`` (default spawn) and wire navigation to it."""
+    if not isinstance(world, World):
+        world = load_world(world)
+    sim, robot = build_turtlebot3_sim(world, start)
+    server = build_navigation(sim, robot.base, robot.lidar, world)
+    return NavRig(world, sim, robot, server, ContactWatch(sim, robot.names.body))
+
+
+def distance(a: Pose2D, b: Pose2D) -> float:
+    """Planar distance (m) between two poses."""
+    return math.hypot(a.x - b.x, a.y - b.y)
+
+
+def yaw_error(a: Pose2D, b: Pose2D) -> float:
+    """Absolute heading difference (rad) between two poses."""
+    return abs(math.remainder(a.yaw - b.yaw, 2 * math.pi))
