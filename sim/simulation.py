@@ -29,7 +29,7 @@ _FATAL_WARNINGS = {
     mujoco.mjtWarning.mjWARN_CONTACTFULL: "contact buffer full",
     mujoco.mjtWarning.mjWARN_CNSTRFULL: "constraint buffer full",
 }
-_FATAL_INDICES = np.array([int(kind) for kind in _FATAL_WARNINGS])
+_FATAL_INDICES = tuple(int(kind) for kind in _FATAL_WARNINGS)
 
 
 @dataclass(order=True)
@@ -77,6 +77,7 @@ class Simulation:
         self.seed = seed
         self.rng = np.random.default_rng(seed)
         self.physics_dt = float(model.opt.timestep)
+        self._warning_counts = self.data.warning.number  # a live view of MuJoCo's counters
         self._step = 0
         self._queue: list[_Scheduled] = []
         self._order = 0
@@ -170,8 +171,8 @@ class Simulation:
         MuJoCo checks qpos, qvel and qacc for non-finite values inside every step, resets the
         data and counts a warning; reading the counters (one array) is all that is needed.
         """
-        counts = self.data.warning.number
-        if not counts[_FATAL_INDICES].any():
+        counts = self._warning_counts
+        if not any(counts[index] for index in _FATAL_INDICES):
             return
         reasons = [reason for kind, reason in _FATAL_WARNINGS.items() if counts[int(kind)] > 0]
         for kind in _FATAL_WARNINGS:

@@ -287,3 +287,16 @@ def test_runs_are_deterministic() -> None:
         return [sim.time, *sim.data.qpos.tolist()]
 
     assert run() == run()
+
+
+def test_tcp_pose_is_the_measured_site_pose_with_scipys_quaternion() -> None:
+    sim, arm = build_panda_sim(seed=0)
+    handle = arm.move_to(arm.tcp_pose().translated(dx=0.1, dy=-0.1), 0.8)
+    site = sim.data.site(PREFIX + TCP_SITE)
+    while not handle.status.done:
+        sim.step_for(0.05)
+        # The last control step and mj_step's kinematics saw the same state.
+        pose = arm.tcp_pose()
+        np.testing.assert_allclose(pose.position, site.xpos, atol=1e-12)
+        expected = Rotation.from_matrix(site.xmat.reshape(3, 3)).as_quat()
+        np.testing.assert_allclose(pose.quaternion, expected, atol=1e-12)

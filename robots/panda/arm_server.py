@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import enum
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -29,6 +30,7 @@ from baobab.robots.panda.model import (
     PandaModel,
 )
 from baobab.robots.panda.pose import Pose
+from baobab.robots.panda.quaternion import matrix_to_quaternion
 from baobab.robots.panda.trajectory import (
     LinearTrajectory,
     TimeScaling,
@@ -140,11 +142,15 @@ class ArmServer:
         self.controller = CartesianImpedanceController(self.pin_model, gains, period=self.period)
         self.hand = Gripper(model, data, prefix)
 
-        # Addresses resolved by name once; the 1 kHz loop gathers the state with them.
+        # Addresses resolved by name once. An attached robot's joints are consecutive, so the
+        # 1 kHz loop reads the state through views bound here, without copies.
         joints = [model.joint(prefix + name) for name in (*ARM_JOINTS, *FINGER_JOINTS)]
         self._qpos_index = np.array([int(j.qposadr[0]) for j in joints])
         self._dof_index = np.array([int(j.dofadr[0]) for j in joints])
         self._arm_actuators = np.array([model.actuator(prefix + name).id for name in ARM_JOINTS])
+        self._q = _gather(data.qpos, self._qpos_index)
+        self._v = _gather(data.qvel, self._dof_index)
+        self._base_matrix = self.base_rotation.as_matrix()
 
         self._motion: _Motion | None = None
         self._gripper_motion: _GripperMotion | None = None
@@ -158,7 +164,11 @@ class ArmServer:
     def tcp_pose(self) -> Pose:
         """The TCP pose in the world frame, measured at the last control step."""
         position, rotation = self.controller.tcp
-        return self._to_world(position, Rotation.from_matrix(rotation))
+        quaternion = np.empty(4)
+        matrix_to_quaternion(self._base_matrix @ rotation, quaternion)
+        x, y, z = (self.base_position + self._base_matrix @ position).tolist()
+        qx, qy, qz, qw = quaternion.tolist()
+        return Pose((x, y, z), (qx, qy, qz, qw))
 
     @property
     def busy(self) -> bool:
@@ -211,9 +221,11 @@ class ArmServer:
             return handle
         position, quaternion = self._to_base(parsed.position, Rotation.from_quat(parsed.quaternion))
         start_position, start_rotation = self.controller.tcp
+        start_quaternion = np.empty(4)
+        matrix_to_quaternion(start_rotation, start_quaternion)
         trajectory = LinearTrajectory(
             start_position,
-            Rotation.from_matrix(start_rotation).as_quat(),
+            start_quaternion,
             TrajectoryGoal(parsed.duration, position, quaternion),
             time_scaling=time_scaling or self.config.time_scaling,
         )
@@ -257,20 +269,19 @@ class ArmServer:
     def hold(self) -> None:
         """Hold the TCP where it is now (also what cancelling a motion does)."""
         position, rotation = self.controller.tcp
-        self.controller.hold(position, Rotation.from_matrix(rotation).as_quat())
+        quaternion = np.empty(4)
+        matrix_to_quaternion(rotation, quaternion)
+        self.controller.hold(position, quaternion)
 
     # ------------------------------------------------------------ control loop
 
     def _control(self, _time: float) -> None:
-        data = self.sim.data
         motion = self._motion
         if motion is not None:
             index = min(self._steps - motion.start_step, len(motion.positions) - 1)
             self.controller.set_target(motion.positions[index], motion.quaternions[index])
-        torque = self.controller.compute_torque(
-            data.qpos[self._qpos_index], data.qvel[self._dof_index]
-        )
-        data.ctrl[self._arm_actuators] = torque
+        torque = self.controller.compute_torque(self._q(), self._v())
+        self.sim.data.ctrl[self._arm_actuators] = torque
         self.hand.update(self.period)
         if motion is not None:
             self._update_motion(motion)
@@ -376,15 +387,20 @@ class ArmServer:
     # ---------------------------------------------------------------- frames
 
     def _configuration(self) -> np.ndarray:
-        return self.sim.data.qpos[self._qpos_index]
+        return self._q().copy()
 
     def _to_base(self, position: np.ndarray, rotation: Rotation) -> tuple[np.ndarray, np.ndarray]:
         inverse = self.base_rotation.inv()
         return inverse.apply(position - self.base_position), (inverse * rotation).as_quat()
 
-    def _to_world(self, position: np.ndarray, rotation: Rotation) -> Pose:
-        world_position = self.base_position + self.base_rotation.apply(position)
-        return Pose.from_rotation(world_position, self.base_rotation * rotation)
+
+def _gather(source: np.ndarray, index: np.ndarray) -> Callable[[], np.ndarray]:
+    """A function returning ``source[index]``: a view bound once if ``index`` is consecutive."""
+    start = int(index[0])
+    if np.array_equal(index, np.arange(start, start + index.size)):
+        view = source[start : start + index.size]
+        return lambda: view
+    return lambda: source[index]
 
 
 def _failure(code: ArmErrorCode, message: str) -> TaskOutcome:

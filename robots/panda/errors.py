@@ -23,3 +23,7 @@ class PoseError(BaobabError, ValueError):
 
 class GainsError(BaobabError, ValueError):
     """Impedance gains that are negative, non-finite or out of range."""
+
+
+class PandaModelError(BaobabError, ValueError):
+    """A robot model the Panda's controller cannot drive (e.g. a TCP moved by the fingers)."""

@@ -44,9 +44,11 @@ class Gripper:
         self._model = model
         self._data = data
         self._actuator = model.actuator(prefix + GRIPPER_ACTUATOR).id
-        joints = [model.joint(prefix + name) for name in FINGER_JOINTS]
-        self._qpos = np.array([int(j.qposadr[0]) for j in joints])
-        self._dof = np.array([int(j.dofadr[0]) for j in joints])
+        left, right = (model.joint(prefix + name) for name in FINGER_JOINTS)
+        # Read at 1 kHz: plain indices into MjData's arrays (fixed storage, bound once).
+        self._qpos, self._qvel, self._ctrl = data.qpos, data.qvel, data.ctrl
+        self._left_qpos, self._right_qpos = int(left.qposadr[0]), int(right.qposadr[0])
+        self._left_dof, self._right_dof = int(left.dofadr[0]), int(right.dofadr[0])
         self._left_pads = _pad_geoms(model, prefix + LEFT_FINGER_BODY)
         self._right_pads = _pad_geoms(model, prefix + RIGHT_FINGER_BODY)
         self._robot_body = _in_subtree(model, model.body(prefix + BASE_BODY).id)
@@ -56,12 +58,12 @@ class Gripper:
     @property
     def width(self) -> float:
         """Distance between the fingers (m): 0 closed, 0.08 fully open."""
-        return float(self._data.qpos[self._qpos].sum())
+        return float(self._qpos[self._left_qpos] + self._qpos[self._right_qpos])
 
     @property
     def width_rate(self) -> float:
         """Rate of change of the width (m/s)."""
-        return float(self._data.qvel[self._dof].sum())
+        return float(self._qvel[self._left_dof] + self._qvel[self._right_dof])
 
     @property
     def goal_width(self) -> float:
@@ -93,7 +95,7 @@ class Gripper:
         step = OPENING_SPEED * dt
         self._setpoint += min(step, max(-step, self._goal - self._setpoint))
         # The servo acts on the mean finger travel, half the width.
-        self._data.ctrl[self._actuator] = 0.5 * self._setpoint
+        self._ctrl[self._actuator] = 0.5 * self._setpoint
 
     def grasped_body(self) -> str | None:
         """Name of the body both fingers' pads touch, if it is not part of the robot."""

@@ -16,14 +16,11 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from baobab.robots.panda.arm_server import ArmServer
-from baobab.robots.panda.model import BASE_BODY
 from baobab.robots.panda.pose import Pose
 from baobab.robots.panda.scene import (
     CUBE_HALF_SIZE,
     CUBE_JOINT,
-    FLOOR_GEOM,
-    PREFIX,
-    TABLE_GEOM,
+    ROBOT_CONTACT_SENSOR,
     TABLE_HEIGHT,
     cube_pose,
 )
@@ -107,30 +104,22 @@ class _PickMonitor:
     """Per-physics-step record of the cube height and of robot-table contacts."""
 
     def __init__(self, sim: Simulation, cube_start_z: float) -> None:
-        model = sim.model
-        self._sim = sim
-        robot_root = model.body(PREFIX + BASE_BODY).id
-        robot_body = np.zeros(model.nbody, dtype=bool)
-        robot_body[robot_root] = True
-        for body in range(robot_root + 1, model.nbody):
-            robot_body[body] = robot_body[model.body_parentid[body]]
-        self._robot_geom = robot_body[model.geom_bodyid]
-        self._environment_geom = np.zeros(model.ngeom, dtype=bool)
-        self._environment_geom[[model.geom(TABLE_GEOM).id, model.geom(FLOOR_GEOM).id]] = True
-        self._cube_qpos = int(model.joint(CUBE_JOINT).qposadr[0])
+        model, data = sim.model, sim.data
+        # Read every physics step: MjData's arrays (fixed storage) and plain indices.
+        self._qpos, self._sensordata = data.qpos, data.sensordata
+        self._cube_z = int(model.joint(CUBE_JOINT).qposadr[0]) + 2
+        self._robot_contacts = int(model.sensor(ROBOT_CONTACT_SENSOR).adr[0])
         self._cube_start_z = cube_start_z
         self.max_lift = 0.0
         self.contact_steps = 0
         self.handle = sim.every(sim.physics_dt, self._record, name="pick_monitor")
 
     def _record(self, _time: float) -> None:
-        data = self._sim.data
-        self.max_lift = max(self.max_lift, data.qpos[self._cube_qpos + 2] - self._cube_start_z)
-        if data.ncon:
-            geoms = data.contact.geom[: data.ncon]
-            robot, environment = self._robot_geom[geoms], self._environment_geom[geoms]
-            if ((robot[:, 0] & environment[:, 1]) | (robot[:, 1] & environment[:, 0])).any():
-                self.contact_steps += 1
+        lift = float(self._qpos[self._cube_z]) - self._cube_start_z
+        if lift > self.max_lift:
+            self.max_lift = lift
+        if self._sensordata[self._robot_contacts] > 0.0:
+            self.contact_steps += 1
 
 
 def pick_and_place(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -27,15 +28,20 @@ class Pose:
     quaternion: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 1.0)
 
     def __post_init__(self) -> None:
-        position = tuple(float(v) for v in self.position)
-        quaternion = np.asarray(self.quaternion, dtype=float)
-        norm = float(np.linalg.norm(quaternion))
-        if len(position) != 3 or quaternion.shape != (4,):
+        # Plain floats and math: poses are built at sampling rates (tcp_pose), and numpy's
+        # per-call overhead would dominate for seven numbers.
+        try:
+            position = tuple(map(float, self.position))
+            quaternion = tuple(map(float, self.quaternion))
+        except (TypeError, ValueError) as error:
+            raise PoseError(f"pose values must be numbers: {error}") from error
+        if len(position) != 3 or len(quaternion) != 4:
             raise PoseError("a pose needs 3 position values and 4 quaternion values (x, y, z, w)")
+        norm = math.hypot(*quaternion)
         if not norm > 1e-9:
             raise PoseError(f"the pose quaternion has near-zero norm ({norm:.3g})")
         object.__setattr__(self, "position", position)
-        object.__setattr__(self, "quaternion", tuple(float(v) for v in quaternion / norm))
+        object.__setattr__(self, "quaternion", tuple(v / norm for v in quaternion))
 
     @classmethod
     def from_rotation(cls, position: Sequence[float] | np.ndarray, rotation: Rotation) -> Pose:

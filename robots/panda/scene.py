@@ -19,6 +19,7 @@ from baobab.robots.panda.errors import PandaSceneError
 from baobab.robots.panda.impedance import ImpedanceGains
 from baobab.robots.panda.model import (
     ARM_JOINTS,
+    BASE_BODY,
     FINGER_JOINTS,
     HOME_CONFIGURATION,
     MAX_OPENING,
@@ -40,6 +41,14 @@ PLACE_TARGET_SITE = "place_target"
 TABLE_GEOM = "table"
 FLOOR_GEOM = "floor"
 
+ROBOT_CONTACT_SENSOR = "robot_environment_contact"
+"""Contact sensor: how many contacts the robot has with the table or the floor (-)."""
+
+# The contact sensor's intprm: data bits (1 = "found", the match count), reduction (0 =
+# none), number of reported slots.
+_CONTACT_FOUND = 1
+_CONTACT_REDUCE_NONE = 0
+
 CUBE_HALF_SIZE = 0.025
 """Half the cube's edge (m)."""
 
@@ -52,10 +61,23 @@ the world origin on the table top; the place target is at y = 0.3, clear of this
 
 
 def panda_table_spec() -> mujoco.MjSpec:
-    """The scene with the Panda attached at the mount frame (prefix ``panda/``)."""
+    """The scene with the Panda attached at the mount frame (prefix ``panda/``).
+
+    It carries one sensor, :data:`ROBOT_CONTACT_SENSOR`: the number of contacts between the
+    robot and the world body's geoms (table and floor), counted by MuJoCo inside the step.
+    """
     spec = mujoco.MjSpec.from_file(str(PANDA_TABLE_XML))
     robot = mujoco.MjSpec.from_file(str(PANDA_XML))
     spec.attach(robot, frame=spec.frame(MOUNT_FRAME), prefix=PREFIX)
+    spec.add_sensor(
+        name=ROBOT_CONTACT_SENSOR,
+        type=mujoco.mjtSensor.mjSENS_CONTACT,
+        objtype=mujoco.mjtObj.mjOBJ_XBODY,  # the robot's whole subtree
+        objname=PREFIX + BASE_BODY,
+        reftype=mujoco.mjtObj.mjOBJ_BODY,
+        refname="world",
+        intprm=[_CONTACT_FOUND, _CONTACT_REDUCE_NONE, 1],
+    )
     return spec
 
 

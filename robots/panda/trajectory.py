@@ -2,8 +2,10 @@
 
 A goal is ``[T, x, y, z, qx, qy, qz, qw]``: duration (s), position (m) and orientation. It is
 validated as §10.1 says: eight values, T strictly positive, and a quaternion that can be
-normalised. The pose moves on a straight line: position by lerp, orientation by scipy's
-``Slerp``, both driven by one path parameter s in [0, 1]:
+normalised. The pose moves on a straight line: position by lerp, orientation by slerp (what
+scipy's ``Slerp`` computes, R(s) = R_start exp(s log(R_start^-1 R_goal)), composed as
+matrices: four times faster than ``Slerp`` on a motion's thousand 1 kHz samples), both driven
+by one path parameter s in [0, 1]:
 
 - ``TimeScaling.LINEAR``: the seed's s = t / T.
 - ``TimeScaling.RUCKIG`` (default): a jerk-limited, rest-to-rest profile for s from ruckig.
@@ -21,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from ruckig import InputParameter, Result, Ruckig, Trajectory
-from scipy.spatial.transform import Rotation, Slerp
+from scipy.spatial.transform import Rotation
 
 from baobab.robots.panda.errors import TrajectoryGoalError
 
@@ -136,10 +138,11 @@ class LinearTrajectory:
         self.start_position = np.asarray(start_position, dtype=float).copy()
         self.goal = goal
         rotations = Rotation.from_quat([np.asarray(start_quaternion, dtype=float), goal.quaternion])
-        self._slerp = Slerp([0.0, 1.0], rotations)
+        self._start_matrix = rotations[0].as_matrix()
+        self._rotation_vector = (rotations[0].inv() * rotations[1]).as_rotvec()
         self.length = float(np.linalg.norm(goal.position - self.start_position))
         """Path length (m)."""
-        self.angle = float((rotations[0].inv() * rotations[1]).magnitude())
+        self.angle = float(np.linalg.norm(self._rotation_vector))
         """Rotation angle from start to goal (rad)."""
         self.time_scaling = time_scaling
         self._profile: Trajectory | None = None
@@ -158,16 +161,30 @@ class LinearTrajectory:
             rate = 1.0 / self.duration
             moving = (t > 0.0) & (t < self.duration)
             return t * rate, np.where(moving, rate, 0.0), np.zeros_like(t)
-        samples = np.array([self._profile.at_time(float(ti)) for ti in t.ravel()])
-        s, s_dot, s_ddot = (samples[:, k, 0].reshape(t.shape) for k in range(3))
+        # One flat list of plain floats: far cheaper than numpy converting nested lists.
+        at_time = self._profile.at_time
+        flat = [x for ti in t.ravel().tolist() for state in at_time(ti) for x in state]
+        samples = np.array(flat).reshape(t.size, 3)
+        s, s_dot, s_ddot = (samples[:, k].reshape(t.shape) for k in range(3))
         return np.clip(s, 0.0, 1.0), s_dot, s_ddot
 
     def sample(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Positions (N, 3) in m and quaternions (N, 4) x, y, z, w at ``times`` (N,) in s."""
-        s = self.path_parameter(np.atleast_1d(times))[0]
+        s = self._path_position(np.atleast_1d(times))
         positions = self.start_position + s[:, None] * (self.goal.position - self.start_position)
-        quaternions = self._slerp(s).as_quat(canonical=True)
+        relative = Rotation.from_rotvec(s[:, None] * self._rotation_vector).as_matrix()
+        matrices = self._start_matrix @ relative
+        quaternions = Rotation.from_matrix(matrices, assume_valid=True).as_quat(canonical=True)
         return positions, quaternions
+
+    def _path_position(self, times: np.ndarray) -> np.ndarray:
+        """s alone at ``times`` (1-D): what :meth:`sample` needs, at half the cost."""
+        if self._profile is None:
+            return self.path_parameter(times)[0]
+        t = np.clip(np.asarray(times, dtype=float), 0.0, self.duration)
+        at_time = self._profile.at_time
+        s = np.fromiter((at_time(ti)[0][0] for ti in t.tolist()), float, count=t.size)
+        return np.clip(s, 0.0, 1.0)
 
 
 def _path_limits(
