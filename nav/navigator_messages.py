@@ -1,0 +1,122 @@
+"""Conversions between the navigator's ROS-shaped messages and the navigation server's types.
+
+Goals arrive as ``PoseStamped`` in the ``map`` frame (an empty ``frame_id`` is taken as
+``map``: the simulation localises perfectly, so map is the only frame a goal can be given in).
+Paths go both ways between ``nav_msgs/Path`` and :class:`baobab.nav.path.Path`; costmaps leave
+as ``nav2_msgs/Costmap`` (what Nav2's ``getGlobalCostmap`` returns).
+"""
+
+from __future__ import annotations
+
+from array import array
+from collections.abc import Iterable
+from enum import IntEnum
+
+import numpy as np
+
+from baobab.nav import msgs
+from baobab.nav.costmap import Costmap2D
+from baobab.nav.path import Path
+from baobab.sim.errors import BaobabError
+from baobab.sim.world import Pose2D
+
+MAP_FRAME = "map"
+"""The one frame goals may be given in."""
+
+
+class GoalRejectedError(BaobabError):
+    """A goal the navigator refuses before it reaches the server (the send returns False).
+
+    Attributes:
+        code: the action's error code for it; None means the action's UNKNOWN, which is what
+            Nav2's client reports for a rejected goal.
+    """
+
+    def __init__(self, message: str, code: IntEnum | None = None) -> None:
+        super().__init__(message)
+        self.code = code
+
+
+def goal_pose(pose: msgs.PoseStamped, what: str = "goal") -> Pose2D:
+    """The map-frame planar pose of a goal message.
+
+    Raises:
+        TypeError: ``pose`` is not a ``PoseStamped`` (a programming error, as rosidl's
+            type check raises for a wrong field type).
+        GoalRejectedError: a frame other than ``map``, a non-finite position or a zero or
+            non-finite quaternion.
+    """
+    if not isinstance(pose, msgs.PoseStamped):
+        raise TypeError(f"{what} must be a geometry_msgs PoseStamped, not {type(pose).__name__}")
+    frame = pose.header.frame_id
+    if frame not in (MAP_FRAME, ""):
+        raise GoalRejectedError(
+            f"{what} is in frame '{frame}', which cannot be transformed: goals must be in "
+            f"'{MAP_FRAME}'"
+        )
+    try:
+        return msgs.to_pose2d(pose)
+    except msgs.MessageValueError as exc:
+        raise GoalRejectedError(f"{what} is invalid: {exc}") from None
+
+
+def goal_poses(poses: Iterable[msgs.PoseStamped] | msgs.Goals) -> list[Pose2D]:
+    """The planar poses of a goal list: a list of ``PoseStamped`` or a ``nav_msgs/Goals``.
+
+    Raises:
+        TypeError: a value that is neither.
+        GoalRejectedError: as :func:`goal_pose`, for any of the poses.
+    """
+    items = poses.goals if isinstance(poses, msgs.Goals) else poses
+    if isinstance(items, msgs.PoseStamped) or not isinstance(items, Iterable):
+        raise TypeError(
+            f"poses must be a list of PoseStamped or a nav_msgs Goals, not {type(poses).__name__}"
+        )
+    return [goal_pose(pose, f"pose {index}") for index, pose in enumerate(items)]
+
+
+def path_message(path: Path, stamp: msgs.TimeMsg) -> msgs.Path:
+    """The ``nav_msgs/Path`` of a planner path, every pose stamped ``stamp``."""
+    return msgs.Path(
+        header=msgs.Header(stamp=_copy(stamp), frame_id=path.frame_id),
+        poses=[
+            msgs.pose_stamped(x, y, yaw, frame_id=path.frame_id, stamp=stamp)
+            for x, y, yaw in path.poses.tolist()
+        ],
+    )
+
+
+def path_from_message(path: msgs.Path | Path) -> Path:
+    """A planner path from a ``nav_msgs/Path`` (a planner path passes through).
+
+    Raises:
+        TypeError: a value that is neither.
+        GoalRejectedError: a pose outside the ``map`` frame or with an invalid orientation.
+    """
+    if isinstance(path, Path):
+        return path
+    if not isinstance(path, msgs.Path):
+        raise TypeError(f"path must be a nav_msgs Path, not {type(path).__name__}")
+    poses = [goal_pose(pose, f"path pose {index}") for index, pose in enumerate(path.poses)]
+    return Path(np.array([[p.x, p.y, p.yaw] for p in poses], dtype=float).reshape(-1, 3))
+
+
+def costmap_message(costmap: Costmap2D, stamp: msgs.TimeMsg, layer: str) -> msgs.Costmap:
+    """The ``nav2_msgs/Costmap`` of a costmap: row-major costs, ``data[i + size_x * j]``."""
+    return msgs.Costmap(
+        header=msgs.Header(stamp=_copy(stamp), frame_id=MAP_FRAME),
+        metadata=msgs.CostmapMetaData(
+            map_load_time=_copy(stamp),
+            update_time=_copy(stamp),
+            layer=layer,
+            resolution=costmap.resolution,
+            size_x=costmap.size_x,
+            size_y=costmap.size_y,
+            origin=msgs.Pose(position=msgs.Point(x=costmap.origin_x, y=costmap.origin_y)),
+        ),
+        data=array("B", np.ascontiguousarray(costmap.data, dtype=np.uint8).tobytes()),
+    )
+
+
+def _copy(stamp: msgs.TimeMsg) -> msgs.TimeMsg:
+    return msgs.TimeMsg(sec=stamp.sec, nanosec=stamp.nanosec)

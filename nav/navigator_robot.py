@@ -1,0 +1,91 @@
+"""The simulated robot a :class:`~baobab.nav.navigator.BasicNavigator` drives.
+
+``baobab.nav`` does not depend on robot packages: the navigation server takes any
+:class:`~baobab.nav.interfaces.MobileBase` and :class:`~baobab.nav.interfaces.ScanSource`.
+The Nav2 facade is different, because a Nav2 script constructs ``BasicNavigator()`` and expects
+a robot to be there. :func:`build_simulated_robot` is therefore **the one place in nav that
+reaches for a robot model**: it imports the robot package inside the function, when a navigator
+is built, never at module import time, so ``import baobab.nav`` stays free of ``baobab.robots``
+and the dependency stays one-way for everything else.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from baobab.nav.interfaces import MobileBase, ScanSource
+from baobab.sim.errors import BaobabError
+from baobab.sim.geometry import nearest_obstacle
+from baobab.sim.simulation import Simulation
+from baobab.sim.world import Pose2D, World
+
+ROBOT_MODELS = ("turtlebot3",)
+"""The robot names a navigator accepts."""
+
+
+class NavigatorSetupError(BaobabError, ValueError):
+    """A navigator asked for something that cannot be built: an unknown robot, a blocked pose."""
+
+
+@dataclass
+class SimulatedRobot:
+    """A robot running in its own simulation, as the navigator needs it.
+
+    Attributes:
+        sim: the simulation (world + robot), its callbacks registered.
+        base: the drive, ground-truth pose in the map frame (the sim localises perfectly).
+        lidar: the 2D scanner feeding the costmaps.
+        footprint_radius: radius (m) of the base's circular footprint.
+        teleport: puts the robot at rest at a map-frame pose (``setInitialPose``).
+    """
+
+    sim: Simulation
+    base: MobileBase
+    lidar: ScanSource
+    footprint_radius: float
+    teleport: Callable[[Pose2D], None]
+
+
+def build_simulated_robot(robot: str, world: World, start: Pose2D, seed: int) -> SimulatedRobot:
+    """Build ``world`` with ``robot`` at ``start`` in a new simulation seeded with ``seed``.
+
+    Raises:
+        NavigatorSetupError: ``robot`` is not one of :data:`ROBOT_MODELS`, or ``start`` is not
+            free for its footprint.
+    """
+    if robot != "turtlebot3":
+        raise NavigatorSetupError(
+            f"unknown robot {robot!r}; a navigator drives one of: {', '.join(ROBOT_MODELS)}"
+        )
+    # The one robot import of baobab.nav (see the module docstring): lazy on purpose.
+    from baobab.robots.turtlebot3 import BURGER, build_turtlebot3_sim
+
+    check_free(world, start, BURGER.footprint_radius, what="start pose")
+    sim, turtlebot = build_turtlebot3_sim(world, start, seed=seed)
+    return SimulatedRobot(
+        sim=sim,
+        base=turtlebot.base,
+        lidar=turtlebot.lidar,
+        footprint_radius=BURGER.footprint_radius,
+        teleport=turtlebot.base.teleport,
+    )
+
+
+def pose_is_free(world: World, pose: Pose2D, radius: float) -> bool:
+    """True when a footprint of ``radius`` (m) at ``pose`` is clear of obstacles, on the floor."""
+    return nearest_obstacle(world, pose.x, pose.y)[1] >= radius
+
+
+def check_free(world: World, pose: Pose2D, radius: float, *, what: str) -> None:
+    """Raise unless a footprint of ``radius`` (m) at ``pose`` is free in ``world``.
+
+    Raises:
+        NavigatorSetupError: naming the obstacle (or the floor edge) in the way.
+    """
+    name, distance = nearest_obstacle(world, pose.x, pose.y)
+    if distance < radius:
+        raise NavigatorSetupError(
+            f"{what} ({pose.x:.3f}, {pose.y:.3f}) is not free in world '{world.name}': "
+            f"'{name}' is {distance:.3f} m from it, the robot's footprint needs {radius:.3f} m"
+        )
