@@ -1,15 +1,17 @@
 """``baobab run``: load, run, judge, write the run folder, report, and choose the exit code.
 
-Order of work, so that invalid input exits 2 with nothing written: the options
-(``--record`` is not available yet; ``--viewer`` needs a display), the mission (a path, or
-the name of a bundled mission ``missions/<name>.yaml``) and its ``--set`` values, the baseline
-file, the run folder, the robot and the tree; only then the run. SIGINT during the run stops
-it at the next tick: the tree is halted, the robot stopped, the result is CANCELED, the run
-folder is written, and the exit code is 130.
+Order of work, so that invalid input exits 2 with nothing written: the options (the folders
+of ``--record``/``--video``/``--btlog`` exist, PyAV is installed for ``--video``, ``--host``,
+``--port``, ``--fps`` and ``--video-size`` come with the option they tune), the mission (a
+path, or the name of a bundled mission ``missions/<name>.yaml``) and its ``--set`` values, the
+baseline file, the run folder, the robot, the tree and the recorders; only then the run.
+SIGINT during the run stops it at the next tick: the tree is halted, the robot stopped, the
+result is CANCELED, the recordings are finished, the run folder is written, and the exit code
+is 130.
 
 ``--viewer`` without a display prints a warning on stderr and runs headless (so a script that
-asks for the viewer still gets its run folder); with a display, the run is paced to the wall
-clock.
+asks for the viewer still gets its run folder); with a display, and with ``--live``, the run is
+paced to the wall clock.
 """
 
 from __future__ import annotations
@@ -28,6 +30,13 @@ from types import FrameType
 from baobab.missions.baseline import Baseline, compare, read_baseline, write_baseline
 from baobab.missions.loader import load_mission
 from baobab.missions.progress import LineProgress, LiveProgress, print_summary
+from baobab.missions.recording_hook import (
+    DEFAULT_FPS,
+    DEFAULT_HOST,
+    DEFAULT_PORT,
+    DEFAULT_VIDEO_SIZE,
+    RecordingOptions,
+)
 from baobab.missions.run_folder import check_run_folder, default_run_folder, write_run_folder
 from baobab.missions.runner import RunRecord, run_mission
 from baobab.sim.errors import BaobabError
@@ -88,8 +97,7 @@ def sigint_flag() -> Iterator[threading.Event]:
 
 def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
     """The ``run`` handler; returns the exit code (BaobabError means invalid input, exit 2)."""
-    if args.record is not None:
-        raise BaobabError("--record: MCAP recording is not available yet")
+    recording = recording_options(args)
     if args.seed is not None and args.seed < 0:
         raise BaobabError(f"--seed must be >= 0, got {args.seed}")
     mission = load_mission(resolve_mission(args.mission), overrides)
@@ -115,7 +123,7 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
                 seed=args.seed,
                 progress=progress,
                 realtime=args.realtime,
-                viewer=args.viewer,
+                recording=recording,
                 interrupted=interrupted.is_set,
                 warn=_warn,
             )
@@ -130,7 +138,53 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
         sys.stdout.flush()
     else:
         print_summary(sys.stdout, result, rich=live)
+        _print_recording(result.get("recording", {}))
     return record.exit_code
+
+
+def _print_recording(outputs: Mapping[str, object]) -> None:
+    """One line naming what the run recorded, filmed or served."""
+    parts = [str(outputs[key]) for key in ("mcap", "btlog", "live") if key in outputs]
+    if "video" in outputs:
+        parts.append(f"{outputs['video']} ({outputs.get('video_frames')} frames)")
+    if parts:
+        print(f"recorded: {', '.join(parts)}")
+
+
+def recording_options(args: argparse.Namespace) -> RecordingOptions:
+    """The recording flags of ``baobab run``, checked before anything runs.
+
+    Raises:
+        BaobabError: a tuning flag without the flag it tunes, a missing folder, a ``--btlog``
+            without its suffix, or ``--video`` without PyAV.
+    """
+    if not args.live and (args.host is not None or args.port is not None):
+        raise BaobabError("--host and --port set up --live, which is not given")
+    if args.video is None and (args.fps is not None or args.video_size is not None):
+        raise BaobabError("--fps and --video-size set up --video, which is not given")
+    for flag, path in (("--record", args.record), ("--video", args.video), ("--btlog", args.btlog)):
+        if path is not None and not path.parent.is_dir():
+            raise BaobabError(f"{flag} {path}: the folder {path.parent} does not exist")
+    if args.btlog is not None and args.btlog.suffix != ".btlog":
+        raise BaobabError(f"--btlog {args.btlog}: Groot2 reads only files ending in .btlog")
+    if args.video is not None:
+        try:
+            import av  # noqa: F401  (PyAV: the video extra)
+        except ImportError:
+            raise BaobabError(
+                '--video needs PyAV, which is not installed: pip install "baobab[video]"'
+            ) from None
+    return RecordingOptions(
+        record=args.record,
+        live=args.live,
+        host=DEFAULT_HOST if args.host is None else args.host,
+        port=DEFAULT_PORT if args.port is None else args.port,
+        video=args.video,
+        fps=DEFAULT_FPS if args.fps is None else args.fps,
+        video_size=DEFAULT_VIDEO_SIZE if args.video_size is None else args.video_size,
+        btlog=args.btlog,
+        viewer=args.viewer,
+    )
 
 
 def _warn(message: str) -> None:

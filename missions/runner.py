@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -32,15 +32,11 @@ from baobab.missions.expectations import (
 from baobab.missions.loader import Mission
 from baobab.missions.metrics import MetricValue
 from baobab.missions.plotting import PlotData
+from baobab.missions.recording_hook import RecordingHook, RecordingOptions
 from baobab.missions.robots_wiring import build_rig
 from baobab.missions.run_loop import LoopOutcome, MissionErrorCode, ProgressSink, RunLoop
 from baobab.missions.trace import Trace, jsonable
-from baobab.sim.viewer import RealTimePacer, open_viewer
-
-NO_DISPLAY_WARNING = (
-    "--viewer: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); running headless, "
-    "the run folder's plot.png shows the run"
-)
+from baobab.sim.viewer import RealTimePacer
 
 EXIT_OK, EXIT_NOT_INTENDED, EXIT_INTERRUPTED = 0, 1, 130
 
@@ -49,6 +45,7 @@ __all__ = [
     "EXIT_NOT_INTENDED",
     "EXIT_OK",
     "MissionErrorCode",
+    "RecordingOptions",
     "RunRecord",
     "run_mission",
 ]
@@ -143,6 +140,7 @@ def run_mission(
     progress: ProgressSink | None = None,
     realtime: bool = False,
     viewer: bool = False,
+    recording: RecordingOptions | None = None,
     interrupted: Callable[[], bool] | None = None,
     warn: Callable[[str], None] | None = None,
 ) -> RunRecord:
@@ -155,13 +153,17 @@ def run_mission(
         realtime: pace the sim to the wall clock.
         viewer: show MuJoCo's passive viewer, paced to the wall clock; without a display,
             ``warn`` is told and the run goes on headless.
+        recording: record to MCAP, serve live to Foxglove, film, log the tree for Groot2
+            (see :class:`~baobab.missions.recording_hook.RecordingHook`); recording only
+            reads the simulation, so the trace digest does not change.
         interrupted: polled every tick; True ends the run as CANCELED (SIGINT).
         warn: receives warnings for people (default: dropped).
 
     Raises:
         MissionError: an ``expect: metrics:`` name this run does not measure, or a capability
             the tree needs that the robot lacks (located, before anything runs).
-        BaobabError: the robot or the world cannot be built.
+        BaobabError: the robot or the world cannot be built, or a recording cannot be
+            started (file, port, OpenGL).
     """
     run_seed = mission.seed if seed is None else seed
     rig = build_rig(mission, run_seed)
@@ -178,12 +180,11 @@ def run_mission(
         timeout=mission.timeout,
     )
     events = TimedEvents(mission.events, rig.obstacles, rig.teleop)
-    handle = None
+    options = recording or RecordingOptions()
     if viewer:
-        handle = open_viewer(
-            rig.sim.model, rig.sim.data, report=lambda _: (warn or _drop)(NO_DISPLAY_WARNING)
-        )
-    pacer = RealTimePacer() if realtime or handle is not None else None
+        options = replace(options, viewer=True)
+    hook = RecordingHook(options, rig, compiled, warn=warn or _drop) if options.enabled else None
+    pacer = RealTimePacer() if realtime or (hook is not None and hook.needs_pacing) else None
     loop = RunLoop(
         compiled,
         rig,
@@ -193,20 +194,24 @@ def run_mission(
         progress=progress,
         pacer=pacer,
         interrupted=interrupted,
-        on_tick=None if handle is None else handle.sync,
+        on_tick=None if hook is None else hook.after_tick,
     )
     started = time.perf_counter()
     try:
         outcome = loop.run()
     finally:
-        if handle is not None:
-            handle.close()
+        if hook is not None:
+            hook.close()
     wall_time = time.perf_counter() - started
     metrics = rig.metrics.values()
     end = RunEnd(outcome.result, outcome.error_code, outcome.error_name, outcome.sim_time)
     expectations = evaluate(mission.expect, end, metrics, mission)
     plot = rig.plot_data(_title(mission, run_seed, outcome))
-    return RunRecord(mission, run_seed, outcome, metrics, expectations, trace, plot, wall_time)
+    record = RunRecord(mission, run_seed, outcome, metrics, expectations, trace, plot, wall_time)
+    outputs = {} if hook is None else hook.outputs()
+    if outputs:
+        record.extra["recording"] = outputs
+    return record
 
 
 def _drop(_message: str) -> None:

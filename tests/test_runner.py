@@ -281,7 +281,7 @@ def test_invalid_input_exits_2_with_one_located_line_and_no_folder(
     for argv, message in [
         (["no_such_mission"], "no mission file 'no_such_mission'"),
         (["walls_bug2", "--set", "speed=3"], "unknown parameter 'speed'"),
-        (["walls_bug2", "--record", "x.mcap"], "not available yet"),
+        (["walls_bug2", "--record", "no/x.mcap"], "the folder no does not exist"),
         (["walls_bug2", "--seed", "-1"], "--seed must be >= 0"),
     ]:
         code, out, err = _cli(capsys, "run", *argv)
