@@ -1,4 +1,5 @@
-"""Nav2's behaviour server: Spin, BackUp, DriveOnHeading, Wait, AssistedTeleop, clear costmaps.
+"""Nav2's behaviour server: Spin, BackUp, DriveOnHeading, Wait, clear costmaps (AssistedTeleop:
+:mod:`baobab.nav.assisted_teleop`).
 
 Each behaviour is a small state machine ticked at ``cycle_frequency`` (10 Hz) of sim time:
 the first tick checks the goal and records the start, every tick after that runs one cycle
@@ -25,13 +26,12 @@ import numpy as np
 
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.errors import (
-    AssistedTeleopError,
     BackUpError,
     DriveOnHeadingError,
     SpinError,
     WaitError,
 )
-from baobab.nav.footprint import collision_mask, project_motion
+from baobab.nav.footprint import collision_mask
 from baobab.nav.interfaces import MobileBase
 from baobab.nav.layered_costmap import LayeredCostmap
 from baobab.sim.tasks import TaskOutcome, TaskStatus
@@ -52,6 +52,10 @@ class BehaviorParams:
     minimum_speed: float = 0.10
     projection_time: float = 1.0
     simulation_time_step: float = 0.1
+    teleop_footprint_padding: float = 0.05
+    """Margin (m) assisted teleop keeps between the footprint and lethal cells."""
+    teleop_costmap_clear_frequency: float = 2.0
+    """How often (Hz) assisted teleop clears all costmaps while it runs (seed 000); 0: never."""
 
 
 @dataclass
@@ -64,13 +68,51 @@ class TeleopInput:
 
 
 @dataclass
+class AssistedTeleopStats:
+    """Run totals of assisted teleop, for metrics (every session of the server adds up).
+
+    Attributes:
+        cycles: cycles with a non-zero teleop command.
+        min_scaling: smallest factor applied to a non-zero command (1: never slowed,
+            0: stopped); None before the first such cycle.
+        slowed_cycles: cycles whose command was scaled by a factor strictly between 0 and 1.
+        stopped_cycles: cycles whose non-zero command was replaced by zero.
+        max_linear: largest ``|linear|`` (m/s) sent to the base.
+        costmap_clears: periodic clearings of the costmaps.
+    """
+
+    cycles: int = 0
+    min_scaling: float | None = None
+    slowed_cycles: int = 0
+    stopped_cycles: int = 0
+    max_linear: float = 0.0
+    costmap_clears: int = 0
+
+    def record(self, scaling: float, linear_speed: float) -> None:
+        """Count one cycle with a non-zero command: its ``scaling`` and the speed sent (m/s)."""
+        self.cycles += 1
+        self.min_scaling = scaling if self.min_scaling is None else min(self.min_scaling, scaling)
+        if scaling == 0.0:
+            self.stopped_cycles += 1
+        elif scaling < 1.0:
+            self.slowed_cycles += 1
+        self.max_linear = max(self.max_linear, linear_speed)
+
+
+@dataclass
 class BehaviorContext:
-    """What behaviours act on: the base, the local costmap (for collision checks), teleop input."""
+    """What behaviours act on: the base, the local costmap (for collision checks), teleop input.
+
+    ``clear_costmaps(which)`` is what assisted teleop calls to clear the costmaps while it
+    runs (None: it does not clear).
+    """
 
     base: MobileBase
     local_costmap: Callable[[], Costmap2D]
     params: BehaviorParams = field(default_factory=BehaviorParams)
     teleop: TeleopInput = field(default_factory=TeleopInput)
+    clear_costmaps: Callable[[str], None] | None = None
+    teleop_stats: AssistedTeleopStats = field(default_factory=AssistedTeleopStats)
 
 
 class Behavior(ABC):
@@ -307,47 +349,6 @@ class Wait(Behavior):
         if left > 1e-9:
             return None
         return TaskOutcome(TaskStatus.SUCCEEDED)
-
-
-class AssistedTeleop(Behavior):
-    """Pass the teleop command through a collision projection until preempted or timed out.
-
-    Each cycle the teleop twist is projected ahead in ``simulation_time_step`` steps up to
-    ``projection_time``. A collision at the first step sends zero; a collision at time ``t``
-    scales the twist by ``t / projection_time``. :attr:`TeleopInput.preempt_requested` ends
-    the behaviour with success.
-    """
-
-    label = "AssistedTeleop"
-    codes = AssistedTeleopError
-
-    def start(self, now: float) -> TaskOutcome | None:
-        """Forget a stale preempt request."""
-        self.context.teleop.preempt_requested = False
-        self.feedback["current_teleop_duration"] = 0.0
-        return None
-
-    def cycle(self, now: float) -> TaskOutcome | None:
-        """Scale the latest teleop command by the time to collision and send it."""
-        p, teleop = self.params, self.context.teleop
-        self.feedback["current_teleop_duration"] = now - self._start_time
-        if teleop.preempt_requested:
-            teleop.preempt_requested = False
-            return self._succeed()
-        linear, angular = teleop.linear, teleop.angular
-        poses = project_motion(
-            self.base.pose(), linear, angular, p.projection_time, p.simulation_time_step
-        )
-        if len(poses):
-            hits = collision_mask(self.context.local_costmap(), poses[:, 0], poses[:, 1])
-            if hits.any():
-                first = int(np.argmax(hits))
-                scale = (
-                    0.0 if first == 0 else (first + 1) * p.simulation_time_step / p.projection_time
-                )
-                linear, angular = linear * scale, angular * scale
-        self.base.command(linear, angular)
-        return None
 
 
 COSTMAP_CHOICES = ("local", "global", "all")

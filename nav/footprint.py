@@ -4,15 +4,24 @@ For a circular robot whose radius is the inflation layer's inscribed radius, the
 collision exactly when the cost under its centre is ``INSCRIBED_INFLATED_OBSTACLE`` or more.
 Cells off the costmap or unknown count as free unless ``unknown_is_collision`` (Nav2's
 controllers do the same when the costmap tracks unknown space). The controller uses these
-checks for its collision-ahead test; the recoveries (Spin, BackUp, DriveOnHeading,
-AssistedTeleop) project their commands ahead with them.
+checks for its collision-ahead test; the recoveries (Spin, BackUp, DriveOnHeading) project
+their commands ahead with them. Assisted teleop checks a padded footprint disc against the
+lethal cells exactly (:func:`lethal_distances`), so its stopping margin does not depend
+on how the grid meets the wall.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from baobab.nav.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION, Costmap2D
+from baobab.nav.costmap import (
+    INSCRIBED_INFLATED_OBSTACLE,
+    LETHAL_OBSTACLE,
+    NO_INFORMATION,
+    Costmap2D,
+)
 from baobab.sim.world import Pose2D
 
 
@@ -80,3 +89,38 @@ def time_to_collision(
     if not hits.any():
         return None
     return float(dt * (int(np.argmax(hits)) + 1))
+
+
+def lethal_distances(
+    costmap: Costmap2D, xs: np.ndarray, ys: np.ndarray, reach: float
+) -> np.ndarray:
+    """Distance (m) from each point ``(xs, ys)`` (m) to the nearest lethal cell's square.
+
+    Exact geometry on the grid: the distance to the nearest point of each lethal cell, not to
+    its centre, so a robot centre whose distance is at least its radius keeps that radius to
+    whatever the lethal cells cover (the static layer marks every cell an obstacle overlaps),
+    however the grid is aligned. Lethal cells farther than ``reach`` (m) are not looked at:
+    their points read ``inf``, as do points with none. Cells off the grid are free. Returns a
+    float array shaped like ``xs``; 0 for a point inside a lethal cell.
+    """
+    px = np.asarray(xs, dtype=float).reshape(-1)
+    py = np.asarray(ys, dtype=float).reshape(-1)
+    result = np.full(px.shape, np.inf)
+    if px.size:
+        res = costmap.resolution
+        ix0 = max(math.floor((px.min() - reach - costmap.origin_x) / res), 0)
+        iy0 = max(math.floor((py.min() - reach - costmap.origin_y) / res), 0)
+        ix1 = min(math.floor((px.max() + reach - costmap.origin_x) / res) + 1, costmap.size_x)
+        iy1 = min(math.floor((py.max() + reach - costmap.origin_y) / res) + 1, costmap.size_y)
+        lethal = np.zeros((0, 0), dtype=bool)
+        if ix0 < ix1 and iy0 < iy1:
+            lethal = costmap.data[iy0:iy1, ix0:ix1] == LETHAL_OBSTACLE
+        rows, cols = np.nonzero(lethal)
+        if rows.size:
+            centres_x, centres_y = costmap.map_to_world_array(cols + ix0, rows + iy0)
+            half = res / 2
+            gap_x = np.maximum(np.abs(centres_x[None, :] - px[:, None]) - half, 0.0)
+            gap_y = np.maximum(np.abs(centres_y[None, :] - py[:, None]) - half, 0.0)
+            nearest = np.sqrt((gap_x**2 + gap_y**2).min(axis=1))
+            result = np.where(nearest <= reach, nearest, np.inf)
+    return result.reshape(np.shape(xs))

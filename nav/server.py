@@ -35,8 +35,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from baobab.nav.assisted_teleop import AssistedTeleop
 from baobab.nav.behaviors import (
-    AssistedTeleop,
+    AssistedTeleopStats,
     BackUp,
     BehaviorContext,
     BehaviorParams,
@@ -136,11 +137,17 @@ class NavigationServer:
         self.smoother = p.smoother
         self.follower = PathFollower(base, self.local_costmap, p.controller)
         self.teleop_input = TeleopInput()
+        self.teleop_stats = AssistedTeleopStats()
+        self._clear = ClearCostmaps(self.local_layers, self.global_layers)
         self.behavior_context = BehaviorContext(
-            base, self.local_costmap, p.behaviors, self.teleop_input
+            base,
+            self.local_costmap,
+            p.behaviors,
+            self.teleop_input,
+            clear_costmaps=self._clear_and_remark,
+            teleop_stats=self.teleop_stats,
         )
         self.metrics = NavigationMetrics()
-        self._clear = ClearCostmaps(self.local_layers, self.global_layers)
         self._active: _Active | None = None
         self._lidar = lidar
         self._latest_scan: LaserScan | None = None
@@ -262,7 +269,10 @@ class NavigationServer:
         """Drive by :meth:`teleop_command` through the collision projection.
 
         Ends SUCCEEDED on :meth:`preempt_teleop`, FAILED (TIMEOUT) after ``time_allowance`` s
-        (0: no limit).
+        (0: no limit), CANCELED on :meth:`cancel`. While it runs, all costmaps are cleared at
+        ``params.behaviors.teleop_costmap_clear_frequency`` (2 Hz). Feedback:
+        ``current_teleop_duration`` (s) and ``scaling`` (the factor applied this cycle);
+        totals over all sessions are in :attr:`teleop_stats`.
         """
         return self._submit(
             "assisted_teleop",
@@ -414,6 +424,22 @@ class NavigationServer:
         active.task.halt()
         self.base.stop()
         handle.finish(_CANCELED)
+
+    def _clear_and_remark(self, which: str) -> None:
+        """Clear, then mark the latest scan again: what the lidar still sees stays.
+
+        Nav2's obstacle layer re-marks its latest observation on every update, so a clearing
+        only forgets obstacles the sensor no longer sees; here a scan is marked once, so the
+        latest one is marked again at once (assisted teleop's periodic clearing).
+        """
+        self._clear(which)
+        scan = self._latest_scan
+        if scan is None:
+            return
+        if which in ("local", "all"):
+            self.local_layers.add_scan(scan)
+        if which in ("global", "all"):
+            self.global_layers.add_scan(scan)
 
     def _on_scan(self, scan: LaserScan) -> None:
         self._latest_scan = scan
