@@ -15,9 +15,11 @@ from baobab.missions.poses import MissionScope, Pose
 from baobab.missions.schema import (
     ARM_EXPECTATIONS,
     MOBILE_EXPECTATIONS,
+    NOISE_NEEDS_LIDAR,
     Event,
     Expect,
     MoveObstacleEvent,
+    Noise,
     SpawnObstacleEvent,
     TeleopEvent,
 )
@@ -113,6 +115,15 @@ class MissionChecks:
                 f"at most {MOVABLE_SLOT_COUNT} obstacles can be spawned in one run",
             )
         spawned[name] = index
+
+    def noise(self, noise: Noise) -> None:
+        """Check that the robot has the sensors whose noise is switched on."""
+        robot = self.scope.robot
+        for key in NOISE_NEEDS_LIDAR:
+            if getattr(noise, key) > 0 and not robot.has_lidar:
+                raise self._error(
+                    ("noise", key), f"{key} needs a robot with a lidar; {robot.name} has none"
+                )
 
     def expect(self, expect: Expect, timeout: float) -> None:
         """Check that each expectation fits the robot and names known locations."""

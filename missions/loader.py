@@ -16,7 +16,7 @@ Order of work (each step's errors come before the next step's):
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -39,6 +39,7 @@ from baobab.missions.schema import (
     Event,
     Expect,
     MissionFile,
+    Noise,
     ParamName,
     SubtreeSpec,
 )
@@ -73,6 +74,7 @@ class Mission:
         timeout: the run's limit (s of sim time).
         expect: the expectations, if any.
         document: the located YAML document (for messages about nodes).
+        noise: the run's sensor noise (off unless the file asks for it).
     """
 
     path: Path
@@ -92,6 +94,7 @@ class Mission:
     timeout: float
     expect: Expect | None
     document: LocatedDocument
+    noise: Noise = field(default_factory=Noise)
 
 
 def load_mission(
@@ -172,6 +175,7 @@ class _Loader:
         shapes = {name: parser.check_template(name, spec) for name, spec in file.subtrees.items()}
         checks = MissionChecks(self.document, scope, self.origins)
         checks.events(file.events, file.timeout)
+        checks.noise(file.noise)
         if file.expect is not None:
             checks.expect(file.expect, file.timeout)
         return Mission(
@@ -192,6 +196,7 @@ class _Loader:
             timeout=file.timeout,
             expect=file.expect,
             document=self.document,
+            noise=file.noise,
         )
 
     def _top_level(self) -> dict[str, Any]:

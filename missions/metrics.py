@@ -10,7 +10,9 @@ probes sample in periodic sim callbacks, so every figure is a function of the si
   ``data.contact`` with precomputed group masks), locations entered in order, start and final
   pose.
 - :class:`ArmProbe`: the tool path, and for each free object of the scene its highest lift
-  above its start and its final position (100 Hz).
+  above its start and its final position (100 Hz); contacts of the arm with the world's own
+  geoms, the table and the floor (every physics step, from ``data.contact``; the grasped
+  object is a free body, so holding it is no contact).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ import functools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -257,13 +259,17 @@ class MobileProbe:
 
 
 class ArmProbe:
-    """Measures an arm scene from sim callbacks: the tool path and the free objects.
+    """Measures an arm scene from sim callbacks: the tool path, the free objects, and the
+    arm's contacts with the world body's geoms (the table and the floor).
 
     Args:
         sim: the simulation.
         tcp_position: returns the tool centre point (m, world frame).
         objects: names of the free bodies to follow (e.g. ``cube``).
-        period: sampling period (s).
+        robot_prefix: name prefix of the arm's bodies; their geoms touching a geom of the
+            world body count as contacts.
+        period: sampling period of the tool and objects (s).
+        contact_period: sampling period of the contacts (s); default: every physics step.
     """
 
     def __init__(
@@ -272,11 +278,22 @@ class ArmProbe:
         tcp_position: Callable[[], Sequence[float]],
         objects: Sequence[str],
         *,
+        robot_prefix: str,
         period: float = 0.01,
+        contact_period: float | None = None,
     ) -> None:
         self.sim = sim
         self._tcp_position = tcp_position
         self.objects = list(objects)
+        model = sim.model
+        body_names = [model.body(int(b)).name for b in model.geom_bodyid]
+        self._is_arm = [name.startswith(robot_prefix) for name in body_names]
+        self._is_environment = [int(b) == 0 for b in model.geom_bodyid]
+        if not any(self._is_arm):
+            raise BaobabError(f"the scene has no bodies named '{robot_prefix}...'")
+        self.contact_samples = 0
+        """Contact samples (one per ``contact_period``) with an arm-environment contact."""
+        self.contact_objects: set[str] = set()
         self._bodies = [sim.data.body(name) for name in self.objects]
         self.object_start = {
             n: b.xpos.copy() for n, b in zip(self.objects, self._bodies, strict=True)
@@ -287,7 +304,9 @@ class ArmProbe:
             n: [] for n in self.objects
         }
         self.tcp_path_length = 0.0
+        self.contact_period = sim.physics_dt if contact_period is None else contact_period
         sim.every(period, self._sample, name="metrics arm")
+        sim.every(self.contact_period, self._sample_contacts, name="metrics arm contacts")
 
     def register(self, metrics: MetricRegistry, place_target: Sequence[float] | None) -> None:
         """Add this probe's metrics; ``placement_error`` when the scene has a place target."""
@@ -302,6 +321,19 @@ class ArmProbe:
             lambda: max(self.max_lift.values(), default=0.0),
             unit="m",
             description="highest lift of any object above its start",
+        )
+        metrics.add(
+            "contacts",
+            lambda: self.contact_samples,
+            description=(
+                f"{1 / self.contact_period:g} Hz samples with an arm-table (or floor) contact"
+            ),
+        )
+        metrics.add(
+            "contact_objects",
+            lambda: sorted(self.contact_objects),
+            description="world geoms the arm touched",
+            number=False,
         )
         for name in self.objects:
             metrics.add(
@@ -330,6 +362,24 @@ class ArmProbe:
         """An object's current position (m)."""
         return [float(v) for v in self.sim.data.body(name).xpos]
 
+    def _sample_contacts(self, _now: float) -> None:
+        data = self.sim.data
+        if data.ncon == 0:
+            return
+        touched = False
+        arm, environment = self._is_arm, self._is_environment
+        for first, second in data.contact.geom[: data.ncon].tolist():
+            if arm[first] and environment[second]:
+                other = second
+            elif arm[second] and environment[first]:
+                other = first
+            else:
+                continue
+            touched = True
+            self.contact_objects.add(self.sim.model.geom(other).name)
+        if touched:
+            self.contact_samples += 1
+
     def _sample(self, _now: float) -> None:
         tcp = tuple(float(v) for v in self._tcp_position())
         if self.tcp_path:
@@ -341,6 +391,90 @@ class ArmProbe:
             lift = z - float(self.object_start[name][2])
             if lift > self.max_lift[name]:
                 self.max_lift[name] = lift
+
+
+class TrackingProbe:
+    """How closely the tool follows its set-point: both positions, sampled at a modest rate.
+
+    The set-point is what the Cartesian impedance controller is told to reach at that moment
+    (the trajectory sample); the distance to it is the tracking error plotted for arm runs.
+
+    Args:
+        sim: the simulation.
+        read: returns (tool centre point, set-point) positions (m, world frame).
+        period: sampling period (s).
+    """
+
+    def __init__(
+        self,
+        sim: Simulation,
+        read: Callable[[], tuple[Sequence[float] | np.ndarray, Sequence[float] | np.ndarray]],
+        *,
+        period: float = 0.02,
+    ) -> None:
+        self._read = read
+        self.times: list[float] = []
+        self.tcp: list[tuple[float, float, float]] = []
+        self.setpoint: list[tuple[float, float, float]] = []
+        self.errors: list[float] = []
+        """Distance (m) from the tool to the set-point at each sample."""
+        sim.every(period, self._sample, name="metrics tracking")
+
+    def register(self, metrics: MetricRegistry) -> None:
+        """Add ``max_tracking_error``."""
+        metrics.add(
+            "max_tracking_error",
+            lambda: max(self.errors, default=0.0),
+            unit="m",
+            description="largest sampled distance from the tool to its impedance set-point",
+        )
+
+    def _sample(self, now: float) -> None:
+        tcp, setpoint = self._read()
+        a = (float(tcp[0]), float(tcp[1]), float(tcp[2]))
+        b = (float(setpoint[0]), float(setpoint[1]), float(setpoint[2]))
+        self.times.append(now)
+        self.tcp.append(a)
+        self.setpoint.append(b)
+        self.errors.append(math.dist(a, b))
+
+
+class TeleopTotals(Protocol):
+    """What assisted teleop counts (``baobab.nav.behaviors.AssistedTeleopStats``)."""
+
+    min_scaling: float | None
+    slowed_cycles: int
+    max_linear: float
+    costmap_clears: int
+
+
+def register_teleop_metrics(
+    metrics: MetricRegistry, totals: Callable[[], TeleopTotals | None]
+) -> None:
+    """Add the assisted teleop metrics; ``totals()`` is None when the robot has no teleop."""
+
+    def read(name: str) -> MetricValue:
+        found = totals()
+        return None if found is None else getattr(found, name)
+
+    for metric, attribute, unit, description in (
+        (
+            "teleop_min_scaling",
+            "min_scaling",
+            "",
+            "smallest factor assisted teleop applied to a teleop command (1: never slowed, "
+            "0: stopped); null without one",
+        ),
+        (
+            "teleop_slowed_cycles",
+            "slowed_cycles",
+            "",
+            "assisted teleop cycles that scaled the command by a factor between 0 and 1",
+        ),
+        ("teleop_max_speed", "max_linear", "m/s", "largest forward speed assisted teleop sent"),
+        ("teleop_costmap_clears", "costmap_clears", "", "costmap clearings by assisted teleop"),
+    ):
+        metrics.add(metric, functools.partial(read, attribute), unit=unit, description=description)
 
 
 def _pose_dict(pose: tuple[float, float, float]) -> dict[str, float]:

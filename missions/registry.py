@@ -156,10 +156,16 @@ class Registry:
 @functools.cache
 def default_registry() -> Registry:
     """The registry of every built-in node type (built once per process)."""
-    from baobab.missions import nodes_arm, nodes_common, nodes_control, nodes_navigation
+    from baobab.missions import (
+        nodes_arm,
+        nodes_common,
+        nodes_control,
+        nodes_navigation,
+        nodes_progress,
+    )
 
     registry = Registry()
-    for module in (nodes_control, nodes_common, nodes_navigation, nodes_arm):
+    for module in (nodes_control, nodes_common, nodes_navigation, nodes_progress, nodes_arm):
         module.register(registry)
     return registry
 

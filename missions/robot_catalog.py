@@ -26,6 +26,7 @@ class RobotInfo:
         max_angular_speed: turn rate limit (rad/s); 0 for fixed robots.
         scenes: for fixed robots, the scene names ``world:`` may give (first = default).
         scene_objects: free objects of those scenes, by name (``relative_to:`` targets).
+        has_lidar: True when the robot carries a 2D lidar (``noise: lidar_std`` applies).
     """
 
     name: str
@@ -37,6 +38,7 @@ class RobotInfo:
     max_angular_speed: float = 0.0
     scenes: tuple[str, ...] = ()
     scene_objects: tuple[str, ...] = ()
+    has_lidar: bool = False
 
     def describe_capabilities(self) -> str:
         """``arm`` or ``base_controllers, navigation, teleop``."""
@@ -52,6 +54,7 @@ ROBOTS: dict[str, RobotInfo] = {
         footprint_radius=0.105,
         max_linear_speed=0.22,
         max_angular_speed=2.84,
+        has_lidar=True,
     ),
     "panda": RobotInfo(
         name="panda",

@@ -12,14 +12,20 @@ to load), and the navigation stack (numba kernels) is imported only when the tre
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol, cast
 
 import numpy as np
 
 from baobab.behaviours.ports import NAVIGATION, Capabilities, NavigationPort
 from baobab.missions.events import ObstacleSlots, TeleopChannel
 from baobab.missions.loader import Mission
-from baobab.missions.metrics import ArmProbe, MetricRegistry, MobileProbe
+from baobab.missions.metrics import (
+    ArmProbe,
+    MetricRegistry,
+    MobileProbe,
+    TrackingProbe,
+    register_teleop_metrics,
+)
 from baobab.missions.plotting import ArmPlot, CostmapImage, MobilePlot, PlotData
 from baobab.missions.poses import Pose
 from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
@@ -98,6 +104,28 @@ def build_navigation(
     return server
 
 
+class ClearCountingPort:
+    """The navigation server as the tree's port, counting the tree's costmap clearings.
+
+    Every other attribute is the server's own; only ``clear_costmaps`` is counted on its way
+    through, so the ``costmap_clears`` metric tells how often the mission's ``clear_costmaps``
+    and ``clear_costmaps_when_stuck`` nodes cleared (Nav2's own recoveries count as
+    ``number_of_recoveries``).
+    """
+
+    def __init__(self, server: NavigationServer) -> None:
+        self.server = server
+        self.clears = 0
+
+    def clear_costmaps(self, which: str = "all") -> None:
+        """Count, then clear the ``local``, ``global`` or ``all`` costmaps."""
+        self.clears += 1
+        self.server.clear_costmaps(which)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.server, name)
+
+
 class MobileRig:
     """A TurtleBot3 in a 2D world with base controllers and, when needed, navigation."""
 
@@ -109,16 +137,21 @@ class MobileRig:
             raise BaobabError(f"mission '{mission.name}' has no world for a mobile robot")
         self.world = world
         self.mission = mission
-        self.sim, self.robot = build_turtlebot3_sim(world, mission.start, seed=seed)
+        self.sim, self.robot = build_turtlebot3_sim(
+            world, mission.start, seed=seed, lidar_noise_std=mission.noise.lidar_std
+        )
         self.controllers = BaseControllerServer(self.sim, self.robot.base, self.robot.lidar)
         self.teleop: TeleopChannel | None = TeleopChannel()
         self.obstacles: ObstacleSlots | None = ObstacleSlots(self.sim)
         self.navigation: NavigationServer | None = None
         self.planned_paths: list[np.ndarray] = []
+        self.clear_counter: ClearCountingPort | None = None
         port: NavigationPort | None = None
         sim = self.sim
         if uses_capability(mission, NAVIGATION):
-            self.navigation = port = build_navigation(sim, self.robot, world, self.teleop)
+            self.navigation = build_navigation(sim, self.robot, world, self.teleop)
+            self.clear_counter = ClearCountingPort(self.navigation)
+            port = cast(NavigationPort, self.clear_counter)
             sim.every(PATH_SAMPLE_PERIOD, self._sample_path, name="plot paths")
         self.capabilities = Capabilities(
             clock=lambda: sim.time, navigation=port, base_controllers=self.controllers
@@ -146,9 +179,17 @@ class MobileRig:
             description="sum of each navigation goal's first plan; null without one",
         )
         self.metrics.add(
+            "costmap_clears",
+            lambda: 0 if self.clear_counter is None else self.clear_counter.clears,
+            description="costmap clearings by the mission's tree (not Nav2's recoveries)",
+        )
+        self.metrics.add(
             "replans",
             lambda: 0 if self.navigation is None else self.navigation.metrics.replans,
             description="paths planned after a goal's first",
+        )
+        register_teleop_metrics(
+            self.metrics, lambda: None if self.navigation is None else self.navigation.teleop_stats
         )
 
     def _recoveries(self) -> int:
@@ -216,7 +257,7 @@ class ArmRig:
 
     def __init__(self, mission: Mission, seed: int) -> None:
         from baobab.missions.arm_port import PandaArmPort
-        from baobab.robots.panda.scene import build_panda_sim, place_target
+        from baobab.robots.panda.scene import PREFIX, build_panda_sim, place_target
 
         self.mission = mission
         self.sim, self.server = build_panda_sim(seed=seed)
@@ -224,11 +265,22 @@ class ArmRig:
         sim = self.sim
         self.capabilities = Capabilities(clock=lambda: sim.time, arm=self.port)
         self.objects = list(mission.robot.scene_objects)
-        self.probe = ArmProbe(sim, lambda: self.server.tcp_pose().position, self.objects)
+        self.probe = ArmProbe(
+            sim, lambda: self.server.tcp_pose().position, self.objects, robot_prefix=PREFIX
+        )
         self.place_target = tuple(float(v) for v in place_target(sim))
         self.metrics = MetricRegistry()
         self.metrics.add("sim_time", lambda: sim.time, unit="s", description="run length")
         self.probe.register(self.metrics, self.place_target)
+        self.tracking = TrackingProbe(sim, self._tcp_and_setpoint)
+        self.tracking.register(self.metrics)
+
+    def _tcp_and_setpoint(self) -> tuple[np.ndarray, np.ndarray]:
+        """The tool and the impedance controller's set-point (m, world frame)."""
+        server = self.server
+        setpoint_in_base, _ = server.controller.target
+        setpoint = server.base_position + server.base_rotation.apply(setpoint_in_base)
+        return np.asarray(server.tcp_pose().position), setpoint
 
     def state(self) -> dict[str, Any]:
         """Tool pose (m, quaternion x, y, z, w), hand opening (m) and object positions (m)."""
@@ -256,9 +308,14 @@ class ArmRig:
         x, y, z = self.place_target
         if all(math.dist(position, (x, y, z)) > 0.01 for _, position in targets):
             targets.append(("place target", (x, y, z)))
+        tracking = self.tracking
         return ArmPlot(
             title=title,
             tcp_path=self.probe.tcp_path,
             object_paths=dict(self.probe.object_paths),
             targets=targets,
+            tracking_times=tracking.times,
+            tracking_tcp=tracking.tcp,
+            setpoint_path=tracking.setpoint,
+            tracking_errors=tracking.errors,
         )

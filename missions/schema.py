@@ -223,6 +223,24 @@ MOBILE_EXPECTATIONS = (
 ARM_EXPECTATIONS = ("object_lifted", "object_placed")
 
 
+# --- sensor noise ---------------------------------------------------------------------------
+
+
+class Noise(_Strict):
+    """Sensor noise of the run, drawn from the run's seeded generator (off by default).
+
+    With noise on, a different seed gives a different run; the same seed, the same run.
+    """
+
+    lidar_std: NonNegative = Field(
+        default=0.0, description="standard deviation of each lidar range reading, m"
+    )
+
+
+NOISE_NEEDS_LIDAR = ("lidar_std",)
+"""Noise keys that need a robot with a lidar."""
+
+
 # --- the whole file -------------------------------------------------------------------------
 
 
@@ -245,10 +263,11 @@ class MissionFile(_Strict):
     tree: NodeData
     subtrees: dict[ParamName, SubtreeSpec] = Field(default_factory=dict)
     events: list[Event] = Field(default_factory=list)
+    noise: Noise = Field(default_factory=Noise, description="sensor noise, off by default")
     timeout: Positive = Field(default=DEFAULT_TIMEOUT, description="s of sim time")
     expect: Expect | None = None
 
 
 TOP_LEVEL_KEYS = tuple(MissionFile.model_fields)
-SUBSTITUTED_SECTIONS = ("start", "tree", "events", "timeout", "expect")
+SUBSTITUTED_SECTIONS = ("start", "tree", "events", "noise", "timeout", "expect")
 """Top-level sections where ``${param}`` is replaced (subtrees use their own parameters)."""

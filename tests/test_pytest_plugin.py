@@ -1,0 +1,214 @@
+"""The pytest plugin: mission files with an ``expect:`` block are scenario tests.
+
+Each test builds a folder of missions in pytester's temporary directory (copies of the quick
+bundled walls missions, and variants of them) and runs pytest over it: in this process, or in
+a subprocess for pytest-xdist.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import xml.etree.ElementTree as ET
+from importlib import resources
+from pathlib import Path
+
+# matplotlib and baobab.missions.scenario are imported before any inline pytest run:
+# pytester drops the modules an inline run imports when it ends, numpy cannot be imported
+# twice in one process, and importing matplotlib again for every plot would be slow.
+import matplotlib.backends.backend_agg
+import matplotlib.collections
+import matplotlib.figure
+import matplotlib.patches
+import matplotlib.patheffects  # noqa: F401
+import pytest
+
+import baobab.missions.scenario  # noqa: F401
+from baobab.missions.pytest_plugin import is_scenario_file
+
+pytest_plugins = ["pytester"]
+
+BUNDLED = Path(str(resources.files("baobab.missions")))
+REPO = Path(__file__).resolve().parents[1]
+BROKEN = """\
+# yaml-language-server: $schema=mission.schema.json
+mission: broken
+world: walls
+robot: turtlebot3
+tree:
+  wait: {duratoin: 3}
+expect:
+  result: SUCCEEDED
+"""
+
+
+QUIET = ("-p", "no:hypothesispytest", "-p", "no:cacheprovider")
+"""Plugins the inner runs do without (hypothesis alone costs a second per run)."""
+
+
+def _run(pytester: pytest.Pytester, *args: str) -> pytest.RunResult:
+    """pytest in this process, without xdist or hypothesis."""
+    return pytester.runpytest(*QUIET, "-p", "no:xdist", *args)
+
+
+def _copy(pytester: pytest.Pytester, *names: str) -> None:
+    for name in ("mission.schema.json", *(f"{n}.yaml" for n in names)):
+        (pytester.path / name).write_text((BUNDLED / name).read_text())
+
+
+def _variant(pytester: pytest.Pytester, source: str, name: str, old: str, new: str) -> Path:
+    text = (BUNDLED / f"{source}.yaml").read_text()
+    assert old in text
+    text = text.replace(f"mission: {source}", f"mission: {name}").replace(old, new)
+    path = pytester.path / f"{name}.yaml"
+    path.write_text(text)
+    return path
+
+
+def _impossible(pytester: pytest.Pytester) -> Path:
+    return _variant(pytester, "walls_go_to_goal", "too_fast", "max_sim_time: 60", "max_sim_time: 5")
+
+
+def test_two_quick_missions_pass_and_other_yaml_is_left_alone(pytester: pytest.Pytester) -> None:
+    _copy(pytester, "walls_go_to_goal", "walls_bug2")
+    _variant(pytester, "walls_go_to_goal", "no_expect", "expect:", "unchecked:")
+    pytester.makefile(".yaml", world="name: room\nfloor: {size: [2, 2]}\n")
+    pytester.makefile(".yml", notes="mission: a word in a note\n")
+    result = _run(pytester, "-v")
+    result.assert_outcomes(passed=2)
+    result.stdout.fnmatch_lines(
+        [
+            "*walls_bug2.yaml::walls_bug2 PASSED*",
+            "*walls_go_to_goal.yaml::walls_go_to_goal PASSED*",
+        ]
+    )
+    basetemp = pytester.path.parent / "basetemp"  # where pytester points inline runs
+    folders = [path for path in basetemp.glob("walls_*") if not path.is_symlink()]
+    assert sorted(path.name for path in folders) == ["walls_bug20", "walls_go_to_goal0"]
+    results = [json.loads((path / "result.json").read_text()) for path in folders]
+    assert {result["result"] for result in results} == {"SUCCEEDED"}
+
+
+def test_an_impossible_expectation_fails_with_the_table_and_the_run_folder(
+    pytester: pytest.Pytester,
+) -> None:
+    _copy(pytester)
+    _impossible(pytester)
+    runs = pytester.path / "runs"
+    result = _run(pytester, "--baobab-runs", str(runs))
+    result.assert_outcomes(failed=1)
+    text = result.stdout.str()
+    assert "mission 'too_fast' (too_fast.yaml, seed 2) did not turn out as intended" in text
+    assert re.search(r"expectation\s+expected\s+measured\s+held\s+detail", text)
+    assert re.search(r"max_sim_time\s+5\s+14\.7\s+NO\s+14\.7 s of sim time, at most 5 s", text)
+    assert re.search(r"final_pose_near\s+.*\s+yes\s+", text)
+    (folder,) = runs.iterdir()
+    assert f"run folder: {folder}" in text
+    assert "replay: baobab run too_fast.yaml --seed 2" in text
+    assert json.loads((folder / "result.json").read_text())["intended"] is False
+
+
+def test_a_malformed_mission_is_a_located_error_and_the_others_still_run(
+    pytester: pytest.Pytester,
+) -> None:
+    _copy(pytester, "walls_go_to_goal")
+    (pytester.path / "broken.yaml").write_text(BROKEN)
+    (pytester.path / "unparsable.yaml").write_text("mission: [oops\nexpect: {}\n")
+    result = _run(pytester)
+    result.assert_outcomes(passed=1, errors=2)
+    text = result.stdout.str()
+    assert (
+        "broken.yaml:6:10: unknown parameter 'duratoin' in wait; did you mean 'duration'?" in text
+    )
+    assert re.search(r"unparsable\.yaml:\d+:\d+: ", text)
+    assert "Traceback" not in text and "INTERNALERROR" not in text
+
+
+def test_junitxml_names_each_item_and_records_its_run(pytester: pytest.Pytester) -> None:
+    _copy(pytester, "walls_go_to_goal")
+    _impossible(pytester)
+    (pytester.path / "broken.yaml").write_text(BROKEN)
+    report = pytester.path / "report.xml"
+    result = _run(pytester, f"--junitxml={report}", "--baobab-seed", "7")
+    result.assert_outcomes(passed=1, failed=1, errors=1)
+    cases = {case.get("name"): case for case in ET.parse(report).getroot().iter("testcase")}
+    assert set(cases) == {"walls_go_to_goal", "too_fast", "broken"}
+    assert cases["too_fast"].find("failure") is not None
+    assert cases["broken"].find("error") is not None
+    properties = {p.get("name"): p.get("value") for p in cases["walls_go_to_goal"].iter("property")}
+    assert properties["seed"] == "7"
+    assert re.fullmatch(r"[0-9a-f]{64}", properties["trace_digest"] or "")
+    assert (Path(properties["run_folder"] or "") / "trace.jsonl").is_file()
+
+
+def test_the_seed_option_is_checked(pytester: pytest.Pytester) -> None:
+    result = _run(pytester, "--baobab-seed", "-3")
+    assert result.ret == pytest.ExitCode.USAGE_ERROR
+    result.stderr.fnmatch_lines(["*--baobab-seed: must be >= 0, got -3*"])
+
+
+def test_missions_run_under_xdist(pytester: pytest.Pytester) -> None:
+    _copy(pytester, "walls_go_to_goal")
+    _impossible(pytester)
+    result = pytester.runpytest_subprocess(*QUIET, "-n", "2")
+    result.assert_outcomes(passed=1, failed=1)
+    result.stdout.fnmatch_lines(["*2 workers*", "*max_sim_time*NO*", "*run folder: *"])
+
+
+def test_baselines_are_written_then_guard_against_regressions(pytester: pytest.Pytester) -> None:
+    _copy(pytester, "walls_go_to_goal")
+    _impossible(pytester)
+    written = _run(pytester, "--baobab-update-baseline")
+    written.assert_outcomes(passed=1, failed=1)
+    baseline = pytester.path / "walls_go_to_goal.baseline.json"
+    data = json.loads(baseline.read_text())
+    assert data["mission"] == "walls_go_to_goal" and data["metrics"]["sim_time"] == 14.7
+    assert not (pytester.path / "too_fast.baseline.json").exists()  # a failed run is no reference
+    assert "not written: the run did not turn out as intended" in written.stdout.str()
+
+    (pytester.path / "too_fast.yaml").unlink()
+    _run(pytester).assert_outcomes(passed=1)  # compared, and within tolerance
+
+    data["metrics"]["sim_time"] = 10.0  # as if the mission used to finish in 10 s
+    baseline.write_text(json.dumps(data))
+    regressed = _run(pytester)
+    regressed.assert_outcomes(failed=1)
+    text = regressed.stdout.str()
+    assert re.search(r"baseline\.sim_time\s+.*\s+14\.7\s+NO\s+14\.7 vs baseline 10", text)
+    assert "baseline: compared with walls_go_to_goal.baseline.json" in text
+
+
+def test_collection_can_be_switched_off_for_a_project(pytester: pytest.Pytester) -> None:
+    _copy(pytester, "walls_go_to_goal")
+    pytester.makeini("[pytest]\nbaobab_missions = false\n")
+    _run(pytester).assert_outcomes()
+
+
+def test_the_projects_own_yaml_is_not_collected_but_missions_are(
+    pytester: pytest.Pytester,
+) -> None:
+    fixtures = _run(
+        pytester,
+        "--collect-only",
+        "-q",
+        str(REPO / "tests" / "missions"),
+        str(REPO / "sim" / "worlds"),
+    )
+    assert fixtures.ret == pytest.ExitCode.NO_TESTS_COLLECTED
+    bundled = _run(pytester, "--collect-only", "-q", str(REPO / "missions"))
+    names = {line.split("::")[-1] for line in bundled.outlines if ".yaml::" in line}
+    assert names == {path.stem for path in BUNDLED.glob("*.yaml")}
+
+
+def test_the_cheap_check_wants_top_level_mission_and_expect_keys(tmp_path: Path) -> None:
+    cases = {
+        "both.yaml": "mission: a\nexpect:\n  result: SUCCEEDED\n",
+        "nested.yaml": "mission: a\ntree:\n  expect: 1\n",
+        "quoted.yml": "mission : a\nexpect : {}\n",
+        "world.yaml": "name: cafe\nexpect: 1\n",
+        "both.txt": "mission: a\nexpect: {}\n",
+    }
+    for name, text in cases.items():
+        (tmp_path / name).write_text(text)
+    found = {name for name in cases if is_scenario_file(tmp_path / name)}
+    assert found == {"both.yaml", "quoted.yml"}
