@@ -353,9 +353,9 @@ class ArmProbe:
             first = self.objects[0]
             metrics.add(
                 "placement_error",
-                lambda: float(np.linalg.norm(np.asarray(self.position(first)) - target)),
+                lambda: float(np.linalg.norm(np.asarray(self.position(first))[:2] - target[:2])),
                 unit="m",
-                description=f"{first} to the scene's place target",
+                description=f"horizontal distance from {first} to the scene's place target",
             )
 
     def position(self, name: str) -> list[float]:
