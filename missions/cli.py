@@ -11,6 +11,12 @@ EXTENSION POINT: their handlers report "not available yet".
 
 from __future__ import annotations
 
+import os
+
+# MuJoCo picks its OpenGL backend when first imported; headless, only EGL can render video.
+if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+    os.environ.setdefault("MUJOCO_GL", "egl")
+
 import argparse
 import json
 import sys
@@ -25,6 +31,12 @@ from baobab.missions.export import to_btcpp, to_dot, to_unicode
 from baobab.missions.json_schema import mission_json_schema
 from baobab.missions.loader import Mission, load_mission
 from baobab.missions.params import parse_assignment
+from baobab.missions.recording_hook import (
+    DEFAULT_FPS,
+    DEFAULT_HOST,
+    DEFAULT_PORT,
+    DEFAULT_VIDEO_SIZE,
+)
 from baobab.missions.registry import NodeKind, default_registry
 from baobab.missions.robot_catalog import ROBOTS
 from baobab.sim.errors import BaobabError, SourceError
@@ -251,19 +263,91 @@ def _configure_run(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, help="override the mission's seed")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
     parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
-    parser.add_argument(
-        "--viewer", action="store_true", help="show the MuJoCo viewer (needs a display)"
-    )
     parser.add_argument("--realtime", action="store_true", help="pace the sim to the wall clock")
-    parser.add_argument(
-        "--record", type=Path, metavar="FILE.mcap", help="record an MCAP log (not available yet)"
-    )
     parser.add_argument(
         "--baseline",
         type=Path,
         metavar="FILE",
         help="compare sim time, path length and recoveries with FILE (created if missing)",
     )
+    seeing = parser.add_argument_group("seeing what happened")
+    seeing.add_argument(
+        "--record",
+        type=Path,
+        metavar="FILE.mcap",
+        help="record the run as MCAP (open it in Foxglove or PlotJuggler)",
+    )
+    seeing.add_argument(
+        "--live",
+        action="store_true",
+        help="serve the run to Foxglove over WebSocket, paced to the wall clock",
+    )
+    seeing.add_argument(
+        "--host", metavar="HOST", help=f"live server address (default {DEFAULT_HOST})"
+    )
+    seeing.add_argument(
+        "--port",
+        type=_port,
+        metavar="PORT",
+        help=f"live server port (default {DEFAULT_PORT}; 0 picks a free one)",
+    )
+    seeing.add_argument(
+        "--video",
+        type=Path,
+        metavar="FILE.mp4",
+        help='film the run as H.264 MP4 (needs pip install "baobab[video]")',
+    )
+    seeing.add_argument(
+        "--fps",
+        type=_positive_int,
+        metavar="N",
+        help=f"video frames per second of sim time (default {DEFAULT_FPS})",
+    )
+    seeing.add_argument(
+        "--video-size",
+        type=_video_size,
+        metavar="WxH",
+        help="video size in pixels, both even (default {}x{})".format(*DEFAULT_VIDEO_SIZE),
+    )
+    seeing.add_argument(
+        "--viewer", action="store_true", help="show the MuJoCo viewer (needs a display)"
+    )
+    seeing.add_argument(
+        "--btlog",
+        type=Path,
+        metavar="FILE.btlog",
+        help="log the tree's status changes for Groot2's log viewer",
+    )
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: '{text}'") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {value}")
+    return value
+
+
+def _port(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a port number: '{text}'") from None
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f"a port is 0..65535, got {value}")
+    return value
+
+
+def _video_size(text: str) -> tuple[int, int]:
+    width, _, height = text.lower().partition("x")
+    if not (width.isdigit() and height.isdigit()):
+        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT in pixels, e.g. 640x480: '{text}'")
+    size = int(width), int(height)
+    if min(size) <= 0 or size[0] % 2 or size[1] % 2:
+        raise argparse.ArgumentTypeError(f"width and height must be positive and even: '{text}'")
+    return size
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -278,28 +362,78 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _configure_teleop(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--world", required=True, help="a bundled world name")
+    from baobab.missions.teleop_command import configure_teleop
+
+    configure_teleop(parser)
+
+
+def _teleop(args: argparse.Namespace) -> int:
+    from baobab.missions.teleop_command import teleop_command
+
+    return teleop_command(args)
 
 
 def _configure_campaign(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mission", metavar="MISSION", help="a mission file")
-    parser.add_argument("--runs", type=int, required=True, help="number of seeded runs")
+    parser.add_argument(
+        "mission", metavar="MISSION", help="a mission file, or the name of a bundled mission"
+    )
+    parser.add_argument(
+        "--runs",
+        type=_positive_int,
+        help="seeded runs; with grid axes, runs per grid cell (default 1)",
+    )
     parser.add_argument(
         "--vary",
         action="append",
         default=[],
         metavar="KEY=DIST",
-        help="e.g. start.x=uniform(-0.2,0.2)",
+        help="vary a parameter (table), start.x/y/yaw (offsets), noise.lidar_std or "
+        "events.N.KIND.FIELD: uniform(a,b), normal(mu,sigma), randint(a,b), choice(v1,v2,...), "
+        "grid(a,b,n) (repeatable)",
     )
-    parser.add_argument("--workers", type=int, help="local worker processes")
-    parser.add_argument("--scheduler", metavar="ADDR", help="a distributed scheduler address")
+    parser.add_argument(
+        "--grid",
+        action="append",
+        default=[],
+        metavar="KEY=V1,V2,...",
+        help="a grid axis of listed values; grid axes combine as a cartesian product (repeatable)",
+    )
+    _add_set(parser)
+    parser.add_argument(
+        "--seed",
+        type=int,
+        help="campaign seed; each run's seed derives from it (default: mission's)",
+    )
+    parser.add_argument(
+        "--workers", type=_positive_int, help="local worker processes (default: one per core)"
+    )
+    parser.add_argument(
+        "--scheduler",
+        metavar="tcp://HOST:PORT",
+        help='run on a Dask cluster (needs pip install "baobab[campaign]")',
+    )
+    parser.add_argument(
+        "--out", type=Path, help="campaign folder (default: campaigns/<mission>-<time>)"
+    )
     parser.add_argument("--json", action="store_true", help="one JSON summary on stdout")
 
 
+def _campaign(args: argparse.Namespace) -> int:
+    from baobab.missions.campaign_command import campaign_command
+
+    return campaign_command(args, _overrides(args))
+
+
 def _configure_nav2(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("script", metavar="SCRIPT.py", help="a Nav2 Simple Commander script")
-    parser.add_argument("--world", required=True, help="a bundled world name")
-    parser.add_argument("--start", metavar="X,Y,YAW", help="start pose (m, m, rad)")
+    from baobab.missions.nav2_command import configure_nav2
+
+    configure_nav2(parser)
+
+
+def _nav2(args: argparse.Namespace) -> int:
+    from baobab.missions.nav2_command import nav2_command
+
+    return nav2_command(args)
 
 
 def _not_yet(args: argparse.Namespace) -> int:
@@ -313,8 +447,8 @@ COMMANDS: dict[str, tuple[Callable[[argparse.ArgumentParser], None], Handler, st
     "tree": (_configure_tree, _tree, "print a mission's compiled behaviour tree"),
     "schema": (_configure_schema, _schema, "print the JSON Schema of the mission format"),
     "list": (_configure_list, _list, "list bundled missions, worlds, robots and behaviours"),
-    "teleop": (_configure_teleop, _not_yet, "drive with the keyboard (EXTENSION POINT)"),
-    "campaign": (_configure_campaign, _not_yet, "seeded batch runs (EXTENSION POINT)"),
-    "nav2": (_configure_nav2, _not_yet, "run a Nav2 Simple Commander script (EXTENSION POINT)"),
+    "teleop": (_configure_teleop, _teleop, "drive with the keyboard, assisted teleop on"),
+    "campaign": (_configure_campaign, _campaign, "seeded sweeps of a mission, in parallel"),
+    "nav2": (_configure_nav2, _nav2, "run a Nav2 Simple Commander script"),
 }
 """Subcommand name -> (argument setup, handler, one-line help)."""

@@ -1,0 +1,303 @@
+"""All of baobab's performance figures in one table, each measured in this run.
+
+    python bench/run.py                 # every figure but the test suite (a few minutes)
+    python bench/run.py --with-tests    # also time `pytest -n 2` (about 3 more minutes)
+    python bench/run.py --only planner startup
+
+Ratios are taken against a baseline measured in the same run (bare MuJoCo stepping of the same
+model), so machine noise cancels. Prints a table (figure, value, target, met?) and writes
+bench.json. Targets come from the performance issue.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+MOBILE_MISSIONS = (
+    "walls_go_to_goal",
+    "walls_bug2",
+    "cafe_delivery",
+    "waypoint_patrol",
+    "farm_rows",
+    "town_nav_to_pose",
+    "assisted_teleop",
+)
+ARM_MISSIONS = ("panda_pick",)
+
+
+@dataclass
+class Figure:
+    """One measured figure and its target."""
+
+    name: str
+    value: float
+    unit: str
+    target: float
+    higher_is_better: bool
+    command: str
+
+    @property
+    def met(self) -> bool:
+        """True when the value reaches the target."""
+        if self.higher_is_better:
+            return self.value >= self.target
+        return self.value <= self.target
+
+
+def _baobab_command() -> list[str]:
+    return [str(Path(sys.executable).with_name("baobab"))]
+
+
+def _bundled(name: str) -> Path:
+    from baobab.missions.run_command import resolve_mission
+
+    return Path(resolve_mission(name))
+
+
+def _run_in_process(name: str) -> tuple[float, float, float]:
+    """Run a bundled mission in this process; return (sim time, loop wall time, bare wall time).
+
+    The bare time steps a fresh MjData of the same MjModel with ``mj_step`` for the same sim
+    duration, right after the run, so both see the same machine load.
+    """
+    from baobab.missions.loader import load_mission
+    from baobab.missions.robots_wiring import build_rig
+    from baobab.missions.runner import run_mission
+
+    mission = load_mission(_bundled(name))
+    record = run_mission(mission)
+    sim_time = float(record.outcome.sim_time)
+    model = build_rig(mission, mission.seed).sim.model
+    data = mujoco.MjData(model)
+    steps = round(sim_time / model.opt.timestep)
+    start = time.perf_counter()
+    mujoco.mj_step(model, data, steps)
+    bare = time.perf_counter() - start
+    return sim_time, record.wall_time, bare
+
+
+def mission_figures() -> list[Figure]:
+    """Figures 1 and 2: cafe_delivery overhead over bare physics; RTF of every mission."""
+    figures: list[Figure] = []
+    for name in MOBILE_MISSIONS + ARM_MISSIONS:
+        try:
+            sim_time, wall, bare = _run_in_process(name)
+        except Exception as exc:  # a mission that does not exist yet or fails: say so
+            print(f"  {name}: not measured ({type(exc).__name__}: {exc})", file=sys.stderr)
+            continue
+        arm = name in ARM_MISSIONS
+        figures.append(
+            Figure(
+                f"real-time factor {name}",
+                sim_time / wall,
+                "x",
+                20.0 if arm else 100.0,
+                True,
+                f"baobab run {name} --json (sim_time / wall_time)",
+            )
+        )
+        if name == "cafe_delivery":
+            figures.append(
+                Figure(
+                    "mission overhead cafe_delivery (wall / bare mj_step)",
+                    wall / bare,
+                    "ratio",
+                    3.0,
+                    False,
+                    "python bench/run.py --only missions",
+                )
+            )
+    return figures
+
+
+def planner_figures(queries: int = 200, seed: int = 0) -> list[Figure]:
+    """Figure 3: A* query time (median, p95) on the cafe and farm maps."""
+    from baobab.nav.layered_costmap import LayeredCostmap
+    from baobab.nav.planner import GlobalPlanner
+    from baobab.sim.geometry import clearance
+    from baobab.sim.world import Pose2D, load_world
+
+    figures: list[Figure] = []
+    for world_name in ("cafe", "farm"):
+        world = load_world(world_name)
+        costmap = LayeredCostmap.global_costmap(world).costmap
+        planner = GlobalPlanner()
+        rng = np.random.default_rng(seed)
+        x_min, y_min, x_max, y_max = world.bounds
+        diagonal = float(np.hypot(x_max - x_min, y_max - y_min))
+        times: list[float] = []
+        while len(times) < queries:
+            points = rng.uniform((x_min, y_min), (x_max, y_max), size=(2, 2))
+            if np.linalg.norm(points[0] - points[1]) < diagonal / 3:
+                continue
+            if (clearance(world, points) < 0.3).any():
+                continue
+            start, goal = (Pose2D(x=float(p[0]), y=float(p[1])) for p in points)
+            began = time.perf_counter()
+            try:
+                planner.create_plan(start, goal, costmap)
+            except Exception:
+                continue
+            times.append((time.perf_counter() - began) * 1e3)
+        command = "python bench/run.py --only planner"
+        figures.append(
+            Figure(
+                f"planner median {world_name}", statistics.median(times), "ms", 5.0, False, command
+            )
+        )
+        figures.append(
+            Figure(
+                f"planner p95 {world_name}",
+                float(np.percentile(times, 95)),
+                "ms",
+                20.0,
+                False,
+                command,
+            )
+        )
+    return figures
+
+
+def startup_figures(repeats: int = 3) -> list[Figure]:
+    """Figure 4: process start to the first tree tick; `baobab validate` of every mission."""
+    first_tick: list[float] = []
+    with tempfile.TemporaryDirectory() as out:
+        for index in range(repeats):
+            began = time.perf_counter()
+            process = subprocess.Popen(
+                [*_baobab_command(), "run", "walls_go_to_goal", "--out", f"{out}/{index}"],
+                stdout=subprocess.PIPE,
+                stderr=subprocess.DEVNULL,
+                text=True,
+            )
+            assert process.stdout is not None
+            process.stdout.readline()  # the first progress line is written at the first tick
+            first_tick.append(time.perf_counter() - began)
+            process.kill()
+            process.wait()
+    missions = sorted(str(path) for path in (REPO / "missions").glob("*.yaml"))
+    validate: list[float] = []
+    for _ in range(repeats):
+        began = time.perf_counter()
+        subprocess.run(
+            [*_baobab_command(), "validate", *missions], check=False, capture_output=True
+        )
+        validate.append(time.perf_counter() - began)
+    return [
+        Figure(
+            "start-up: process start to first tick",
+            min(first_tick),
+            "s",
+            1.0,
+            False,
+            "baobab run walls_go_to_goal (time to the first progress line)",
+        ),
+        Figure(
+            f"start-up: baobab validate of {len(missions)} missions",
+            min(validate),
+            "s",
+            0.5,
+            False,
+            "baobab validate missions/*.yaml",
+        ),
+    ]
+
+
+def arm_figures() -> list[Figure]:
+    """Figure 5: microseconds per impedance control step."""
+    sys.path.insert(0, str(REPO / "bench"))
+    from bench_panda import bench_control_step
+
+    step = bench_control_step()
+    value = float(step.get("median_us", step.get("us", float("nan"))))
+    return [
+        Figure("arm control step", value, "us", 30.0, False, "python bench/bench_panda.py (median)")
+    ]
+
+
+def memory_figures() -> list[Figure]:
+    """Figure 6: peak resident memory of one `baobab run cafe_delivery` process."""
+    with tempfile.TemporaryDirectory() as out:
+        subprocess.run(
+            [*_baobab_command(), "run", "cafe_delivery", "--json", "--out", f"{out}/run"],
+            check=False,
+            capture_output=True,
+        )
+    peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+    return [
+        Figure(
+            "peak memory of one mission run",
+            peak_mb,
+            "MB",
+            300.0,
+            False,
+            "baobab run cafe_delivery (ru_maxrss of the child)",
+        )
+    ]
+
+
+def test_suite_figures() -> list[Figure]:
+    """Figure 7: wall time of the whole test suite with two workers."""
+    began = time.perf_counter()
+    subprocess.run(
+        [sys.executable, "-m", "pytest", "-n", "2", "-q", "-p", "no:cacheprovider"],
+        cwd=REPO,
+        check=False,
+        capture_output=True,
+    )
+    minutes = (time.perf_counter() - began) / 60
+    return [Figure("test suite wall time", minutes, "min", 3.0, False, "pytest -n 2")]
+
+
+SECTIONS: dict[str, Callable[[], list[Figure]]] = {
+    "missions": mission_figures,
+    "planner": planner_figures,
+    "startup": startup_figures,
+    "arm": arm_figures,
+    "memory": memory_figures,
+}
+
+
+def main() -> None:
+    """Measure, print the table, write bench.json."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--only", nargs="+", choices=sorted(SECTIONS), default=None)
+    parser.add_argument("--with-tests", action="store_true", help="also time the test suite")
+    parser.add_argument("--output", default="bench.json")
+    args = parser.parse_args()
+    os.environ.setdefault("MUJOCO_GL", "egl")
+    figures: list[Figure] = []
+    for name in args.only or list(SECTIONS):
+        print(f"measuring {name} ...", file=sys.stderr)
+        figures.extend(SECTIONS[name]())
+    if args.with_tests:
+        figures.extend(test_suite_figures())
+    width = max(len(figure.name) for figure in figures)
+    print(f"{'figure':<{width}}  {'value':>10}  {'target':>10}  met?")
+    for figure in figures:
+        relation = ">=" if figure.higher_is_better else "<="
+        print(
+            f"{figure.name:<{width}}  {figure.value:>8.2f} {figure.unit:<4}"
+            f" {relation}{figure.target:>7g}  {'yes' if figure.met else 'NO'}"
+        )
+    report = [{**asdict(figure), "met": figure.met} for figure in figures]
+    Path(args.output).write_text(json.dumps(report, indent=2) + "\n")
+
+
+if __name__ == "__main__":
+    main()
