@@ -114,6 +114,45 @@ def numeric(value: MetricValue) -> float | None:
     return float(value)
 
 
+class ContactSampler:
+    """Counts the sampled steps in which a geom of one set touches a geom of another.
+
+    Args:
+        sim: the simulation whose ``data.contact`` is read.
+        mine: per geom id, True for the geoms whose contacts count (the robot's).
+        others: per geom id, True for the geoms they must not touch.
+    """
+
+    def __init__(self, sim: Simulation, mine: Sequence[bool], others: Sequence[bool]) -> None:
+        self.sim = sim
+        # Plain lists: for the few contacts of a step, list lookups beat numpy masks.
+        self._mine = list(mine)
+        self._others = list(others)
+        self.samples = 0
+        """Samples with at least one such contact."""
+        self.objects: set[str] = set()
+        """Names of the geoms that were touched."""
+
+    def sample(self, _now: float) -> None:
+        """Look at the current contacts once (a periodic sim callback)."""
+        data = self.sim.data
+        if data.ncon == 0:
+            return
+        touched = False
+        mine, others = self._mine, self._others
+        for first, second in data.contact.geom[: data.ncon].tolist():
+            if mine[first] and others[second]:
+                other = second
+            elif mine[second] and others[first]:
+                other = first
+            else:
+                continue
+            touched = True
+            self.objects.add(self.sim.model.geom(other).name)
+        if touched:
+            self.samples += 1
+
+
 class MobileProbe:
     """Measures a mobile base from sim callbacks (see the module docstring).
 
@@ -155,15 +194,15 @@ class MobileProbe:
         self.min_clearance = math.inf
         self.min_clearance_at: tuple[float, float, float] | None = None
         """(t, x, y) where the clearance was smallest."""
-        self.contact_samples = 0
-        self.contact_objects: set[str] = set()
-        # Plain lists: for the few contacts of a step, list lookups beat numpy masks.
         groups = sim.model.geom_group
-        self._is_robot = [bool(g == ROBOT_GROUP) for g in groups]
-        self._is_obstacle = [bool(g in (STATIC_GROUP, MOVABLE_GROUP)) for g in groups]
+        self.contacts = ContactSampler(
+            sim,
+            mine=[bool(g == ROBOT_GROUP) for g in groups],
+            others=[bool(g in (STATIC_GROUP, MOVABLE_GROUP)) for g in groups],
+        )
         sim.every(pose_period, self._sample_pose, name="metrics pose")
         sim.every(clearance_period, self._sample_clearance, name="metrics clearance")
-        sim.every(contact_period, self._sample_contacts, name="metrics contacts")
+        sim.every(contact_period, self.contacts.sample, name="metrics contacts")
 
     def register(self, metrics: MetricRegistry) -> None:
         """Add this probe's metrics."""
@@ -187,12 +226,12 @@ class MobileProbe:
         )
         metrics.add(
             "contacts",
-            lambda: self.contact_samples,
+            lambda: self.contacts.samples,
             description="100 Hz samples with a robot-obstacle contact",
         )
         metrics.add(
             "contact_objects",
-            lambda: sorted(self.contact_objects),
+            lambda: sorted(self.contacts.objects),
             description="obstacles the robot touched",
             number=False,
         )
@@ -239,24 +278,6 @@ class MobileProbe:
             self.min_clearance = clearance
             self.min_clearance_at = (now, float(self._root_qpos[0]), float(self._root_qpos[1]))
 
-    def _sample_contacts(self, _now: float) -> None:
-        data = self.sim.data
-        if data.ncon == 0:
-            return
-        touched = False
-        robot, obstacle = self._is_robot, self._is_obstacle
-        for first, second in data.contact.geom[: data.ncon].tolist():
-            if robot[first] and obstacle[second]:
-                other = second
-            elif robot[second] and obstacle[first]:
-                other = first
-            else:
-                continue
-            touched = True
-            self.contact_objects.add(self.sim.model.geom(other).name)
-        if touched:
-            self.contact_samples += 1
-
 
 class ArmProbe:
     """Measures an arm scene from sim callbacks: the tool path, the free objects, and the
@@ -287,13 +308,12 @@ class ArmProbe:
         self.objects = list(objects)
         model = sim.model
         body_names = [model.body(int(b)).name for b in model.geom_bodyid]
-        self._is_arm = [name.startswith(robot_prefix) for name in body_names]
-        self._is_environment = [int(b) == 0 for b in model.geom_bodyid]
-        if not any(self._is_arm):
+        is_arm = [name.startswith(robot_prefix) for name in body_names]
+        if not any(is_arm):
             raise BaobabError(f"the scene has no bodies named '{robot_prefix}...'")
-        self.contact_samples = 0
-        """Contact samples (one per ``contact_period``) with an arm-environment contact."""
-        self.contact_objects: set[str] = set()
+        self.contacts = ContactSampler(
+            sim, mine=is_arm, others=[int(b) == 0 for b in model.geom_bodyid]
+        )
         self._bodies = [sim.data.body(name) for name in self.objects]
         self.object_start = {
             n: b.xpos.copy() for n, b in zip(self.objects, self._bodies, strict=True)
@@ -306,7 +326,7 @@ class ArmProbe:
         self.tcp_path_length = 0.0
         self.contact_period = sim.physics_dt if contact_period is None else contact_period
         sim.every(period, self._sample, name="metrics arm")
-        sim.every(self.contact_period, self._sample_contacts, name="metrics arm contacts")
+        sim.every(self.contact_period, self.contacts.sample, name="metrics arm contacts")
 
     def register(self, metrics: MetricRegistry, place_target: Sequence[float] | None) -> None:
         """Add this probe's metrics; ``placement_error`` when the scene has a place target."""
@@ -324,14 +344,14 @@ class ArmProbe:
         )
         metrics.add(
             "contacts",
-            lambda: self.contact_samples,
+            lambda: self.contacts.samples,
             description=(
                 f"{1 / self.contact_period:g} Hz samples with an arm-table (or floor) contact"
             ),
         )
         metrics.add(
             "contact_objects",
-            lambda: sorted(self.contact_objects),
+            lambda: sorted(self.contacts.objects),
             description="world geoms the arm touched",
             number=False,
         )
@@ -361,24 +381,6 @@ class ArmProbe:
     def position(self, name: str) -> list[float]:
         """An object's current position (m)."""
         return [float(v) for v in self.sim.data.body(name).xpos]
-
-    def _sample_contacts(self, _now: float) -> None:
-        data = self.sim.data
-        if data.ncon == 0:
-            return
-        touched = False
-        arm, environment = self._is_arm, self._is_environment
-        for first, second in data.contact.geom[: data.ncon].tolist():
-            if arm[first] and environment[second]:
-                other = second
-            elif arm[second] and environment[first]:
-                other = first
-            else:
-                continue
-            touched = True
-            self.contact_objects.add(self.sim.model.geom(other).name)
-        if touched:
-            self.contact_samples += 1
 
     def _sample(self, _now: float) -> None:
         tcp = tuple(float(v) for v in self._tcp_position())

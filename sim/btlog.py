@@ -18,9 +18,9 @@ import math
 import struct
 from collections.abc import Mapping
 from pathlib import Path
-from types import TracebackType
 from typing import BinaryIO
 
+from baobab.sim.closable import Closable
 from baobab.sim.recording_sinks import RecordingError
 
 MAGIC = b"BTCPP4-FileLogger2"
@@ -47,7 +47,7 @@ PY_TREES_STATUS = {
 """py_trees ``Status`` names (``status.name``) -> BehaviorTree.CPP statuses."""
 
 
-class BtLogWriter:
+class BtLogWriter(Closable):
     """Write a ``.btlog`` that Groot2's log viewer replays.
 
     Args:
@@ -107,14 +107,3 @@ class BtLogWriter:
         if self._file is not None:
             self._file.close()
             self._file = None
-
-    def __enter__(self) -> BtLogWriter:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()

@@ -19,7 +19,6 @@ import json
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from types import TracebackType
 from typing import Any
 
 import foxglove
@@ -28,6 +27,7 @@ from foxglove import channels as fc
 from foxglove import messages as fm
 from scipy.spatial.transform import Rotation
 
+from baobab.sim.closable import Closable
 from baobab.sim.lidar import LaserScan
 from baobab.sim.recording_sinks import LiveSink, McapSink, RecordingError, Sink
 from baobab.sim.scene_primitives import IDENTITY, Entity, Quaternion, Rgba, Vector3, yaw_quaternion
@@ -128,7 +128,7 @@ class Transform:
         return cls(parent, child, (pose.x, pose.y, z), yaw_quaternion(pose.yaw))
 
 
-class Recorder:
+class Recorder(Closable):
     """Log a run's data as Foxglove messages to one or more sinks.
 
     Use as a context manager, or call :meth:`close` at the end (it finalises the MCAP file).
@@ -153,17 +153,6 @@ class Recorder:
         except BaseException:
             self.close()
             raise
-
-    def __enter__(self) -> Recorder:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()
 
     @property
     def topics(self) -> list[str]:

@@ -20,12 +20,12 @@ if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
-from types import TracebackType
 from typing import Any
 
 import mujoco
 import numpy as np
 
+from baobab.sim.closable import Closable
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import PeriodicHandle, Simulation
 
@@ -81,7 +81,7 @@ def _use_egl_without_display() -> None:
     gl_context.GLContext = GLContext
 
 
-class OffscreenRenderer:
+class OffscreenRenderer(Closable):
     """Render RGB frames of a model from a :data:`Camera`, robot geoms (group 3) included.
 
     Args:
@@ -149,17 +149,6 @@ class OffscreenRenderer:
     def close(self) -> None:
         """Free the OpenGL context (idempotent)."""
         self._renderer.close()
-
-    def __enter__(self) -> OffscreenRenderer:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()
 
 
 class VideoWriter:
