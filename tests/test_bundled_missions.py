@@ -74,3 +74,12 @@ def test_cafe_delivery_to_table_1_and_back() -> None:
     assert metrics["planned_path_length"] > 15.0
     assert metrics["path_length"] < 1.3 * metrics["planned_path_length"]
     assert isinstance(record.plot, MobilePlot) and record.plot.costmap is not None
+
+
+@pytest.mark.parametrize("path", BUNDLED, ids=lambda p: p.stem)
+def test_each_bundled_mission_runs_as_intended(path: Path) -> None:
+    record = run_mission(load_mission(path))
+    result = record.result_object()
+    failed = [e for e in result["expectations"] if not e["passed"]]
+    assert record.exit_code == 0, failed
+    assert result["expectations"] and not failed
