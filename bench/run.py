@@ -186,6 +186,7 @@ def startup_figures(repeats: int = 3) -> list[Figure]:
                 text=True,
             )
             assert process.stdout is not None
+            process.stdout.readline()  # "running <title>": the mission is loaded
             process.stdout.readline()  # the first progress line is written at the first tick
             first_tick.append(time.perf_counter() - began)
             process.kill()

@@ -23,7 +23,7 @@ from baobab.missions.schema import (
     SpawnObstacleEvent,
     TeleopEvent,
 )
-from baobab.sim.builder import MOVABLE_SLOT_COUNT
+from baobab.sim.world import MOVABLE_SLOT_COUNT
 from baobab.sim.yaml_source import KeyPath, LocatedDocument
 
 

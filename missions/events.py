@@ -26,9 +26,10 @@ from baobab.missions.schema import (
     SpawnObstacleEvent,
     TeleopEvent,
 )
-from baobab.sim.builder import MOVABLE_SLOT_COUNT, movable_slot_name
+from baobab.sim.builder import movable_slot_name
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import Simulation
+from baobab.sim.world import MOVABLE_SLOT_COUNT
 
 
 class EventError(BaobabError):

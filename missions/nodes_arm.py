@@ -18,7 +18,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Annotated, Literal
 
-import numpy as np
 import py_trees
 from pydantic import Field, ValidationInfo, model_validator
 
@@ -26,7 +25,7 @@ from baobab.behaviours.actions import GoalTaskLeaf
 from baobab.behaviours.conditions import ObjectNear
 from baobab.behaviours.ports import ARM, Capabilities
 from baobab.missions.errors import FieldError, unknown_name
-from baobab.missions.poses import ArmPose, MissionScope
+from baobab.missions.poses import ArmPose, MissionScope, vector_norm
 from baobab.missions.registry import BehaviourType, BuildRequest, NodeKind, NodeParams, Registry
 from baobab.sim.tasks import TaskHandle
 
@@ -61,7 +60,7 @@ class MoveToParams(NodeParams):
             raise ValueError("give exactly one of pose or relative_to")
         if self.relative_to is not None:
             _check_object(self.relative_to, info, "relative_to", allow_tcp=True)
-        if self.orientation is not None and float(np.linalg.norm(self.orientation)) < 1e-9:
+        if self.orientation is not None and vector_norm(self.orientation) < 1e-9:
             raise FieldError(("orientation",), "orientation quaternion has zero norm")
         return self
 
@@ -100,8 +99,8 @@ class ObjectAtParams(NodeParams):
 
 
 def _normalised(quaternion: Sequence[float]) -> tuple[float, ...]:
-    q = np.asarray(quaternion, dtype=float)
-    return tuple(float(v) for v in q / np.linalg.norm(q))
+    norm = vector_norm(quaternion)
+    return tuple(float(v) / norm for v in quaternion)
 
 
 def _send_move(params: MoveToParams, caps: Capabilities) -> TaskHandle:

@@ -15,12 +15,12 @@ import re
 from collections.abc import Mapping
 from typing import Any, Literal
 
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from baobab.missions.errors import FieldError, MissionError, located, unknown_name
 from baobab.missions.poses import parse_pose
-from baobab.sim.yaml_source import KeyPath, LocatedDocument
+from baobab.sim.errors import SourceError
+from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml
 
 ParamType = Literal["int", "float", "str", "bool", "pose"]
 PARAM_NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]*$"
@@ -138,9 +138,9 @@ class ParamSpec(BaseModel):
                 raise ValueError(f"expected true or false, got '{text}'")
             value = word in _TRUE
         elif self.type == "pose":
-            try:
-                value = yaml.safe_load(text)
-            except yaml.YAMLError:
+            try:  # the file's limits (tags, depth, aliases, NaN) hold on the command line too
+                value = load_located_yaml("--set", text=text).data
+            except SourceError:
                 raise ValueError(
                     f"expected a location name or a pose mapping, got '{text}'"
                 ) from None

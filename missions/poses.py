@@ -11,11 +11,10 @@ reading the :class:`MissionScope` from the validation context.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Annotated, Any
 
-import numpy as np
 from pydantic import (
     BaseModel,
     ConfigDict,
@@ -25,11 +24,10 @@ from pydantic import (
     WithJsonSchema,
     model_validator,
 )
-from scipy.spatial.transform import Rotation
 
 from baobab.missions.errors import FieldError, unknown_name
 from baobab.missions.robot_catalog import RobotInfo
-from baobab.sim.geometry import obstacle_distances, obstacle_names
+from baobab.sim.point_clearance import obstacle_distances_at
 from baobab.sim.world import Pose2D, World
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
@@ -71,7 +69,12 @@ class Pose:
 
     @property
     def yaw(self) -> float:
-        """Heading (rad): the rotation about z of the orientation."""
+        """Heading (rad): the rotation about z of the orientation (ZYX Euler yaw)."""
+        qx, qy, qz, qw = self.orientation
+        if qx == 0.0 and qy == 0.0:  # a rotation about z only: its angle, exactly
+            return math.remainder(2.0 * math.atan2(qz, qw), math.tau)
+        from scipy.spatial.transform import Rotation  # ~0.4 s to import: only when needed
+
         return float(Rotation.from_quat(self.orientation).as_euler("ZYX")[0])
 
     def pose2d(self) -> Pose2D:
@@ -122,16 +125,20 @@ class SpatialPose(_Strict):
 
     @model_validator(mode="after")
     def _unit_quaternion(self) -> SpatialPose:
-        if float(np.linalg.norm(self.orientation)) < 1e-9:
+        if vector_norm(self.orientation) < 1e-9:
             raise FieldError(("orientation",), "orientation quaternion has zero norm")
         return self
 
     def to_pose(self) -> Pose:
         """The resolved pose, with a unit quaternion."""
-        q = np.asarray(self.orientation, dtype=float)
-        q = q / np.linalg.norm(q)
-        x, y, z, w = (float(v) for v in q)
+        norm = vector_norm(self.orientation)
+        x, y, z, w = (float(v) / norm for v in self.orientation)
         return Pose(self.position, (x, y, z, w), planar=False)
+
+
+def vector_norm(vector: Sequence[float]) -> float:
+    """Euclidean norm, summed in order as numpy's norm does for short vectors (bit-identical)."""
+    return math.sqrt(sum(float(v) * float(v) for v in vector))
 
 
 POSE_SCHEMA: dict[str, Any] = {
@@ -200,17 +207,16 @@ class MissionScope:
                 f"{pose.describe()} is outside the floor of world '{world.name}' "
                 f"(x {x_min:g}..{x_max:g}, y {y_min:g}..{y_max:g})"
             )
-        names = obstacle_names(world)
-        if not names:
+        distances = obstacle_distances_at(world, pose.x, pose.y)
+        if not distances:
             return None
-        distances = obstacle_distances(world, (pose.x, pose.y))[:, 0]
-        index = int(np.argmin(distances))
-        distance, radius = float(distances[index]), self.robot.footprint_radius
+        name, distance = min(distances, key=lambda item: item[1])  # the first of equals
+        radius = self.robot.footprint_radius
         if distance <= 0.0:
-            return f"{pose.describe()} is inside obstacle '{names[index]}'"
+            return f"{pose.describe()} is inside obstacle '{name}'"
         if distance < radius:
             return (
-                f"{pose.describe()} is inside obstacle '{names[index]}' for this robot: "
+                f"{pose.describe()} is inside obstacle '{name}' for this robot: "
                 f"{distance:.3f} m from it, less than the {radius} m footprint radius"
             )
         return None

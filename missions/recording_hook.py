@@ -36,7 +36,6 @@ import py_trees
 
 from baobab.missions.compiler import CompiledMission
 from baobab.missions.export import preorder, to_btcpp_log
-from baobab.missions.trace import jsonable
 from baobab.sim.errors import BaobabError
 
 if TYPE_CHECKING:
@@ -312,6 +311,7 @@ def _tree_nodes(compiled: CompiledMission) -> list[_TreeNode]:
 
 def _plain(feedback: Mapping[str, Any]) -> dict[str, Any]:
     """Task feedback as JSON data; non-finite numbers become null (Foxglove plots gaps)."""
+    from baobab.missions.trace import jsonable  # numpy: not needed by the `baobab` parser
 
     def convert(value: Any) -> Any:
         if isinstance(value, float) and not math.isfinite(value):

@@ -59,12 +59,12 @@ def resolve_mission(text: str) -> Path:
         MissionNotFoundError: when it is neither.
     """
     path = Path(text)
-    if path.is_file():
-        return path
-    if "/" not in text and "\\" not in text and not text.endswith((".yaml", ".yml")):
-        bundled = bundled_mission_path(text)
-        if bundled is not None:
-            return bundled
+    looks_like_a_path = "/" in text or "\\" in text or text.endswith((".yaml", ".yml"))
+    if path.is_file() or looks_like_a_path:
+        return path  # a missing file or a folder: the loader reports it as path:1:1
+    bundled = bundled_mission_path(text)
+    if bundled is not None:
+        return bundled
     folder = resources.files("baobab.missions")
     names = sorted(
         e.name.removesuffix(".yaml") for e in folder.iterdir() if e.name.endswith(".yaml")

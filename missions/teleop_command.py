@@ -23,7 +23,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, TextIO
 
-from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
 from baobab.robots.turtlebot3.teleop import LAYOUTS, layout_named
 from baobab.robots.turtlebot3.teleop_terminal import (
     DEFAULT_HOLD_TIME,
@@ -31,7 +30,6 @@ from baobab.robots.turtlebot3.teleop_terminal import (
     RawTerminal,
     TerminalKeys,
 )
-from baobab.sim.geometry import nearest_obstacle
 from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import World, load_world
 
@@ -87,6 +85,7 @@ class TeleopSession:
 
     def __init__(self, world: World, keys: TerminalKeys) -> None:
         from baobab.nav.server import build_navigation  # the navigation stack loads slowly
+        from baobab.robots.turtlebot3.robot import build_turtlebot3_sim  # MuJoCo: only to drive
 
         self.world = world
         self.keys = keys
@@ -116,6 +115,8 @@ class TeleopSession:
 
     def status(self) -> TeleopStatus:
         """The robot now."""
+        from baobab.sim.geometry import nearest_obstacle  # numpy: not for the `baobab` parser
+
         base = self.robot.base
         pose = base.pose()
         linear, angular = base.body_velocity()

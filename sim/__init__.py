@@ -1,8 +1,33 @@
-"""World descriptions, the MuJoCo model built from them, and the simulation clock."""
+"""World descriptions, the MuJoCo model built from them, and the simulation clock.
 
-from baobab.sim.errors import BaobabError, SimulationError, SourceError, WorldError
-from baobab.sim.simulation import PeriodicHandle, Simulation
-from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World, load_world
+The public names below load on first use (PEP 562), so importing a light module such as
+``baobab.sim.errors`` does not pull in MuJoCo, pydantic and the world loader.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from baobab.sim.errors import BaobabError, SimulationError, SourceError, WorldError
+    from baobab.sim.simulation import PeriodicHandle, Simulation
+    from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World, load_world
+
+_EXPORTS = {
+    "BaobabError": "baobab.sim.errors",
+    "Box": "baobab.sim.world",
+    "Cylinder": "baobab.sim.world",
+    "Floor": "baobab.sim.world",
+    "PeriodicHandle": "baobab.sim.simulation",
+    "Pose2D": "baobab.sim.world",
+    "Simulation": "baobab.sim.simulation",
+    "SimulationError": "baobab.sim.errors",
+    "SourceError": "baobab.sim.errors",
+    "World": "baobab.sim.world",
+    "WorldError": "baobab.sim.errors",
+    "load_world": "baobab.sim.world",
+}
 
 __all__ = [
     "BaobabError",
@@ -18,3 +43,16 @@ __all__ = [
     "WorldError",
     "load_world",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

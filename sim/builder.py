@@ -15,7 +15,7 @@ import math
 import mujoco
 import numpy as np
 
-from baobab.sim.world import FLOOR_NAME, MOVABLE_SLOT_PREFIX, World
+from baobab.sim.world import FLOOR_NAME, MOVABLE_SLOT_COUNT, MOVABLE_SLOT_PREFIX, World
 
 FLOOR_GROUP = 0
 STATIC_GROUP = 1
@@ -25,7 +25,6 @@ ROBOT_GROUP = 3
 PHYSICS_TIMESTEP = 0.002
 """Default physics step (s): 500 Hz."""
 
-MOVABLE_SLOT_COUNT = 4
 MOVABLE_PARK_DISTANCE = 1000.0
 """Where unused movable slots wait (m along x): far outside every world and every sensor."""
 

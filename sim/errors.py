@@ -19,8 +19,9 @@ class SourceError(BaobabError):
         self.path = str(path)
         self.line = line
         self.column = column
-        self.message = message
-        super().__init__(f"{self.path}:{line}:{column}: {message}")
+        # One line whatever the file holds: a key or value may contain a line break.
+        self.message = message.replace("\r", "\\r").replace("\n", "\\n")
+        super().__init__(f"{self.path}:{line}:{column}: {self.message}")
 
 
 class WorldError(SourceError):

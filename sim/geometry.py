@@ -12,7 +12,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import ndimage
 
 from baobab.sim.world import Box, Cylinder, World
 
@@ -149,5 +148,7 @@ def reachable(free: NDArray[np.bool_], start: tuple[int, int]) -> NDArray[np.boo
     row, col = start
     if not (0 <= row < free.shape[0] and 0 <= col < free.shape[1]) or not free[row, col]:
         return np.zeros_like(free, dtype=bool)
+    from scipy import ndimage  # imported here: `baobab validate` needs no raster geometry
+
     labels, _ = ndimage.label(free)  # the default structure is 4-connected in 2D
     return np.asarray(labels == labels[row, col])

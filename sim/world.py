@@ -34,6 +34,9 @@ FLOOR_NAME = "floor"
 MOVABLE_SLOT_PREFIX = "movable_"
 """Prefix of the run-time obstacle slots' body and geom names."""
 
+MOVABLE_SLOT_COUNT = 4
+"""How many run-time obstacle slots every built model has (at most that many spawned at once)."""
+
 
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)

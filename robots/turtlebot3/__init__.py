@@ -4,41 +4,83 @@
 - :mod:`.robot`: :func:`build_turtlebot3_sim` (world + robot + running base and lidar).
 - :mod:`.base`: :class:`DiffDriveBase` (cmd_vel with limits, wheel odometry, ground truth).
 - :mod:`.go_to_goal`, :mod:`.bug2`, :mod:`.teleop`: the seed's §6, §7 and §5 controllers.
+
+The public names load on first use (PEP 562), so importing one light submodule does not
+load the others (MuJoCo models, controllers).
 """
 
-from baobab.robots.turtlebot3.base import BASE_CONTROL_PERIOD, DiffDriveBase, Odometry
-from baobab.robots.turtlebot3.bug2 import (
-    Bug2Controller,
-    Bug2Params,
-    dist_to_mline,
-    follow_left_wall,
-    min_range_in_sector,
-)
-from baobab.robots.turtlebot3.go_to_goal import (
-    GoToGoalController,
-    GoToGoalParams,
-    NavState,
-    angle_wrap,
-    go_to_goal_command,
-    goal_distance,
-)
-from baobab.robots.turtlebot3.model import (
-    BURGER,
-    DEFAULT_PREFIX,
-    BurgerFacts,
-    TurtleBot3Names,
-    attach_turtlebot3,
-    turtlebot3_spec,
-)
-from baobab.robots.turtlebot3.robot import TurtleBot3, build_turtlebot3_sim, start_turtlebot3
-from baobab.robots.turtlebot3.teleop import (
-    LAYOUTS,
-    KeyboardTeleop,
-    KeyLayout,
-    Twist2D,
-    layout_named,
-    twist_from_keys,
-)
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from baobab.robots.turtlebot3.base import BASE_CONTROL_PERIOD, DiffDriveBase, Odometry
+    from baobab.robots.turtlebot3.bug2 import (
+        Bug2Controller,
+        Bug2Params,
+        dist_to_mline,
+        follow_left_wall,
+        min_range_in_sector,
+    )
+    from baobab.robots.turtlebot3.go_to_goal import (
+        GoToGoalController,
+        GoToGoalParams,
+        NavState,
+        angle_wrap,
+        go_to_goal_command,
+        goal_distance,
+    )
+    from baobab.robots.turtlebot3.model import (
+        BURGER,
+        DEFAULT_PREFIX,
+        BurgerFacts,
+        TurtleBot3Names,
+        attach_turtlebot3,
+        turtlebot3_spec,
+    )
+    from baobab.robots.turtlebot3.robot import TurtleBot3, build_turtlebot3_sim, start_turtlebot3
+    from baobab.robots.turtlebot3.teleop import (
+        LAYOUTS,
+        KeyboardTeleop,
+        KeyLayout,
+        Twist2D,
+        layout_named,
+        twist_from_keys,
+    )
+
+_EXPORTS = {
+    "BASE_CONTROL_PERIOD": "baobab.robots.turtlebot3.base",
+    "BURGER": "baobab.robots.turtlebot3.model",
+    "Bug2Controller": "baobab.robots.turtlebot3.bug2",
+    "Bug2Params": "baobab.robots.turtlebot3.bug2",
+    "BurgerFacts": "baobab.robots.turtlebot3.model",
+    "DEFAULT_PREFIX": "baobab.robots.turtlebot3.model",
+    "DiffDriveBase": "baobab.robots.turtlebot3.base",
+    "GoToGoalController": "baobab.robots.turtlebot3.go_to_goal",
+    "GoToGoalParams": "baobab.robots.turtlebot3.go_to_goal",
+    "KeyLayout": "baobab.robots.turtlebot3.teleop",
+    "KeyboardTeleop": "baobab.robots.turtlebot3.teleop",
+    "LAYOUTS": "baobab.robots.turtlebot3.teleop",
+    "NavState": "baobab.robots.turtlebot3.go_to_goal",
+    "Odometry": "baobab.robots.turtlebot3.base",
+    "TurtleBot3": "baobab.robots.turtlebot3.robot",
+    "TurtleBot3Names": "baobab.robots.turtlebot3.model",
+    "Twist2D": "baobab.robots.turtlebot3.teleop",
+    "angle_wrap": "baobab.robots.turtlebot3.go_to_goal",
+    "attach_turtlebot3": "baobab.robots.turtlebot3.model",
+    "build_turtlebot3_sim": "baobab.robots.turtlebot3.robot",
+    "dist_to_mline": "baobab.robots.turtlebot3.bug2",
+    "follow_left_wall": "baobab.robots.turtlebot3.bug2",
+    "go_to_goal_command": "baobab.robots.turtlebot3.go_to_goal",
+    "goal_distance": "baobab.robots.turtlebot3.go_to_goal",
+    "layout_named": "baobab.robots.turtlebot3.teleop",
+    "min_range_in_sector": "baobab.robots.turtlebot3.bug2",
+    "start_turtlebot3": "baobab.robots.turtlebot3.robot",
+    "turtlebot3_spec": "baobab.robots.turtlebot3.model",
+    "twist_from_keys": "baobab.robots.turtlebot3.teleop",
+}
+"""Public name -> the module defining it."""
 
 __all__ = [
     "BASE_CONTROL_PERIOD",
@@ -71,3 +113,16 @@ __all__ = [
     "turtlebot3_spec",
     "twist_from_keys",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

@@ -1,0 +1,135 @@
+"""Start-up cost: which modules a command imports (checked on sys.modules, never on wall time).
+
+Each check runs in a fresh interpreter, since this test process has everything loaded already.
+The wall-clock figures live in ``bench/run.py --only startup``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+BUNDLED = sorted(str(path) for path in (REPO / "missions").glob("*.yaml"))
+LAZY_PACKAGES = ("baobab.sim", "baobab.nav", "baobab.robots.turtlebot3", "baobab.robots.panda")
+
+VALIDATE_MUST_NOT_LOAD = (
+    "numpy",
+    "scipy",
+    "mujoco",
+    "numba",
+    "pinocchio",
+    "matplotlib",
+    "rich",
+    "foxglove",
+    "av",
+    "baobab.nav",
+    "baobab.robots.panda",
+    "baobab.robots.turtlebot3.base",
+)
+MOBILE_RUN_MUST_NOT_LOAD = (
+    "pinocchio",
+    "baobab.robots.panda",
+    "matplotlib",
+    "rich",
+    "foxglove",
+    "av",
+)
+
+
+def _loaded(script: str) -> list[str]:
+    """Run ``script`` in a fresh interpreter; it prints a JSON list of module names last."""
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    names: list[str] = json.loads(done.stdout.splitlines()[-1])
+    return names
+
+
+def _matching(loaded: list[str], prefixes: tuple[str, ...]) -> list[str]:
+    return sorted(
+        name for name in loaded if any(name == p or name.startswith(p + ".") for p in prefixes)
+    )
+
+
+def test_validate_of_every_bundled_mission_loads_no_physics_plots_or_navigation() -> None:
+    script = (
+        "import contextlib, io, json, sys\n"
+        "from baobab.missions.cli import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    code = main(['validate', *{BUNDLED!r}])\n"
+        "assert code == 0, code\n"
+        "print(json.dumps(sorted(sys.modules)))\n"
+    )
+    loaded = _loaded(script)
+    assert "baobab.missions.loader" in loaded  # the check really loaded the missions
+    assert _matching(loaded, VALIDATE_MUST_NOT_LOAD) == []
+
+
+def test_importing_sim_errors_does_not_load_mujoco_or_the_world_loader() -> None:
+    script = (
+        "import json, sys\n"
+        "from baobab.sim.errors import BaobabError\n"
+        "import baobab.sim, baobab.nav, baobab.robots.turtlebot3, baobab.robots.panda\n"
+        "print(json.dumps(sorted(sys.modules)))\n"
+    )
+    loaded = _loaded(script)
+    assert _matching(loaded, ("mujoco", "pydantic", "numpy", "scipy", "baobab.sim.world")) == []
+
+
+@pytest.mark.parametrize(
+    ("mission", "must_not_load"),
+    [
+        ("walls_go_to_goal", (*MOBILE_RUN_MUST_NOT_LOAD, "numba", "baobab.nav")),
+        ("town_nav_to_pose", MOBILE_RUN_MUST_NOT_LOAD),
+    ],
+)
+def test_a_mobile_run_reaches_its_first_tick_without_arm_or_display_modules(
+    mission: str, must_not_load: tuple[str, ...], tmp_path: Path
+) -> None:
+    # The first progress line is written at the first tree tick: snapshot sys.modules there.
+    script = (
+        "import json, os, sys\n"
+        "from baobab.missions import progress\n"
+        "def first_tick(self, snapshot):\n"
+        "    print(json.dumps(sorted(sys.modules)), flush=True)\n"
+        "    os._exit(0)\n"
+        "progress.LineProgress.update = first_tick\n"
+        "from baobab.missions.cli import main\n"
+        f"main(['run', {mission!r}, '--out', {str(tmp_path / 'run')!r}])\n"
+        "raise SystemExit('the mission never ticked')\n"
+    )
+    loaded = _loaded(script)
+    assert "mujoco" in loaded and "py_trees" in loaded  # it did build the sim and the tree
+    assert _matching(loaded, must_not_load) == []
+
+
+@pytest.mark.parametrize("package", LAZY_PACKAGES)
+def test_every_public_name_of_a_lazy_package_resolves(package: str) -> None:
+    module = importlib.import_module(package)
+    for name in module.__all__:
+        value = getattr(module, name)
+        assert value is not None
+        assert getattr(module, name) is value  # cached after the first look-up
+    assert set(module.__all__) <= set(dir(module))
+    with pytest.raises(AttributeError, match="no attribute 'not_a_name'"):
+        module.not_a_name  # noqa: B018 (the look-up itself is the check)
+
+
+def test_public_import_paths_keep_working() -> None:
+    from baobab.nav import BasicNavigator, TaskResult
+    from baobab.robots.panda import build_panda_sim
+    from baobab.robots.turtlebot3 import build_turtlebot3_sim
+    from baobab.sim import Simulation, load_world
+    from baobab.sim.simulation import Simulation as DefinedSimulation
+
+    assert Simulation is DefinedSimulation
+    assert load_world("walls").name == "walls"
+    assert callable(build_panda_sim) and callable(build_turtlebot3_sim)
+    assert BasicNavigator.__name__ == "BasicNavigator" and TaskResult.__name__ == "TaskResult"
