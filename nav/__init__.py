@@ -13,8 +13,9 @@ The public names below load on first use (PEP 562), so importing a light module 
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from baobab.sim.lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
     from baobab.nav.behaviors import BehaviorParams
@@ -69,17 +70,8 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        module = _EXPORTS[name]
-    elif name in _NAVIGATOR_EXPORTS:
-        module = "baobab.nav.navigator"
-    else:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*__all__, *_NAVIGATOR_EXPORTS])
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {**_EXPORTS, **dict.fromkeys(_NAVIGATOR_EXPORTS, "baobab.nav.navigator")},
+    [*__all__, *_NAVIGATOR_EXPORTS],
+)
