@@ -21,7 +21,7 @@ from baobab.sim.errors import BaobabError, SourceError
 MAX_FILE_BYTES = 2_000_000
 MAX_DEPTH = 64
 MAX_ALIASES = 100
-MAX_NODES = 200_000
+MAX_NODES = 50_000
 
 KeyPath = tuple[str | int, ...]
 
@@ -146,8 +146,19 @@ def load_located_yaml(
         raise error_type(shown, 1, 1, "the file is empty; expected a YAML mapping")
     document.marks[()] = (root.start_mark.line + 1, root.start_mark.column + 1)
     limits = _Limits()
-    document.data = _to_data(root, (), 0, document, limits, error_type)
+    try:
+        document.data = _to_data(root, (), 0, document, limits, error_type)
+    except _SizeLimitError as exc:
+        raise exc.error from None
     return document
+
+
+class _SizeLimitError(Exception):
+    """Carries the located error for a document with more than ``MAX_NODES`` values."""
+
+    def __init__(self, error: SourceError) -> None:
+        super().__init__(str(error))
+        self.error = error
 
 
 _LIBYAML_DEPTH_BOUND = 1000
@@ -179,6 +190,9 @@ def _load_with_libyaml(
         document = LocatedDocument(shown, None)
         document.marks[()] = (root.start_mark.line + 1, root.start_mark.column + 1)
         document.data = _to_data(root, (), 0, document, _Limits(), error_type)
+    except _SizeLimitError as exc:
+        # Refusing a huge document must not cost a second, pure-Python pass over it.
+        raise exc.error from None
     except (yaml.YAMLError, SourceError, RecursionError):
         return None
     return document
@@ -245,7 +259,9 @@ def _to_data(
     line, column = node.start_mark.line + 1, node.start_mark.column + 1
     limits.nodes += 1
     if limits.nodes > MAX_NODES:
-        raise error_type(document.path, line, column, f"more than {MAX_NODES} values")
+        raise _SizeLimitError(
+            error_type(document.path, line, column, f"more than {MAX_NODES} values")
+        )
     if depth > MAX_DEPTH:
         raise error_type(document.path, line, column, f"nesting deeper than {MAX_DEPTH} levels")
     if getattr(node, "_baobab_seen", False):
