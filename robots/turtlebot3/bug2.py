@@ -35,6 +35,7 @@ import numpy as np
 
 from baobab.robots.turtlebot3.base import DiffDriveBase
 from baobab.robots.turtlebot3.go_to_goal import (
+    GoToGoalController,
     GoToGoalParams,
     NavState,
     Point,
@@ -42,7 +43,7 @@ from baobab.robots.turtlebot3.go_to_goal import (
     goal_distance,
 )
 from baobab.sim.lidar import LaserScan, Lidar
-from baobab.sim.simulation import PeriodicHandle, Simulation
+from baobab.sim.simulation import Simulation
 
 
 @dataclass(frozen=True)
@@ -135,7 +136,7 @@ def follow_left_wall(
     return params.linear_speed, 0.0
 
 
-class Bug2Controller:
+class Bug2Controller(GoToGoalController):
     """Bug 2 on a base with a lidar, as a periodic sim callback (see the module docstring).
 
     Every hit point and leave point is recorded in :attr:`hit_points` and :attr:`leave_points`
@@ -148,6 +149,8 @@ class Bug2Controller:
         params: gains, limits, wall-following figures and the control period.
     """
 
+    callback_name = "bug2"
+
     def __init__(
         self,
         sim: Simulation,
@@ -155,11 +158,8 @@ class Bug2Controller:
         lidar: Lidar,
         params: Bug2Params = Bug2Params(),
     ) -> None:
-        self.base = base
+        self.params: Bug2Params = params
         self.lidar = lidar
-        self.params = params
-        self.state = NavState.IDLE
-        self.goal: Point | None = None
         self.start: Point | None = None
         self.hit_point: Point | None = None
         self.hit_goal_dist: float | None = None
@@ -167,9 +167,7 @@ class Bug2Controller:
         """True once the robot has been farther than ``mline_tol`` from the M-line since H."""
         self.hit_points: list[Point] = []
         self.leave_points: list[Point] = []
-        self.reached = False
-        """True once the latest goal was reached."""
-        self.handle: PeriodicHandle = sim.every(params.period, self.step, name="bug2")
+        super().__init__(sim, base, params)
 
     def set_goal(self, x: float, y: float) -> None:
         """Head for ``(x, y)`` (m, map frame); the M-line starts where the robot is now."""
@@ -183,16 +181,6 @@ class Bug2Controller:
         self.leave_points.clear()
         self.reached = False
         self.state = NavState.GO_TO_GOAL
-
-    def cancel(self) -> None:
-        """Stop the robot and go IDLE."""
-        self.base.stop()
-        self.state = NavState.IDLE
-
-    def close(self) -> None:
-        """Cancel and unregister the periodic callback."""
-        self.cancel()
-        self.handle.cancel()
 
     def front_dist(self) -> float:
         """Nearest return (m) in the front sector of the latest scan; inf before the first."""

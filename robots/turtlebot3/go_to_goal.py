@@ -101,6 +101,9 @@ class GoToGoalController:
         params: gains, limits and period.
     """
 
+    callback_name = "go_to_goal"
+    """Name of the periodic sim callback."""
+
     def __init__(
         self, sim: Simulation, base: DiffDriveBase, params: GoToGoalParams = GoToGoalParams()
     ) -> None:
@@ -110,7 +113,7 @@ class GoToGoalController:
         self.goal: Point | None = None
         self.reached = False
         """True once the latest goal was reached."""
-        self.handle: PeriodicHandle = sim.every(params.period, self.step, name="go_to_goal")
+        self.handle: PeriodicHandle = sim.every(params.period, self.step, name=self.callback_name)
 
     def set_goal(self, x: float, y: float) -> None:
         """Head for ``(x, y)`` (m, map frame) from now on."""
