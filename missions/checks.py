@@ -1,8 +1,9 @@
 """Cross-checks of ``events`` and ``expect`` against the robot, the world and the locations.
 
 The pydantic models check each value on its own; these checks need the whole mission: a
-teleop event needs a robot with teleop, an obstacle can only be moved after it was spawned,
-an expectation about a lifted object needs an arm, a location must exist.
+teleop event needs a robot with teleop, a wheel or lidar fault a mobile robot, a teleport a
+free spot, an obstacle can only be moved after it was spawned, an expectation about a lifted
+object needs an arm, a location must exist.
 """
 
 from __future__ import annotations
@@ -14,10 +15,13 @@ from baobab.missions.errors import MissionError, located, unknown_name
 from baobab.missions.poses import MissionScope, Pose
 from baobab.missions.schema import (
     ARM_EXPECTATIONS,
+    LIDAR_FAULTS,
     MOBILE_EXPECTATIONS,
     NOISE_NEEDS_LIDAR,
+    ROBOT_INDEPENDENT_FAULTS,
     Event,
     Expect,
+    FaultEvent,
     MoveObstacleEvent,
     Noise,
     SpawnObstacleEvent,
@@ -55,6 +59,8 @@ class MissionChecks:
                 )
             if isinstance(event, TeleopEvent):
                 self._teleop(event, path)
+            elif isinstance(event, FaultEvent):
+                self._fault(event, path)
             elif isinstance(event, SpawnObstacleEvent | MoveObstacleEvent):
                 key = "spawn_obstacle" if isinstance(event, SpawnObstacleEvent) else "move_obstacle"
                 if not robot.mobile or self.scope.world is None:
@@ -99,6 +105,20 @@ class MissionChecks:
                     (*path, "teleop", key),
                     f"teleop {key} {value:g} {unit} exceeds {robot.name}'s limit {limit:g} {unit}",
                 )
+
+    def _fault(self, event: FaultEvent, path: KeyPath) -> None:
+        robot = self.scope.robot
+        kind = event.fault.kind
+        where: KeyPath = (*path, "fault", kind)
+        if kind not in ROBOT_INDEPENDENT_FAULTS and not robot.mobile:
+            raise self._error(where, f"a {kind} fault needs a mobile robot, not {robot.name}")
+        if kind in LIDAR_FAULTS and not robot.has_lidar:
+            raise self._error(where, f"a {kind} fault needs a robot with a lidar")
+        target = event.fault.teleport
+        if target is not None:
+            problem = self.scope.free_space_problem(Pose.from_planar(target.x, target.y, 0.0))
+            if problem is not None:
+                raise self._error((*where, "x"), f"teleport target {problem}")
 
     def _spawn(self, event: SpawnObstacleEvent, index: int, spawned: dict[str, int]) -> None:
         path: KeyPath = ("events", index)

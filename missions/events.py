@@ -1,4 +1,4 @@
-"""Timed mission events: cancel, obstacles that appear or move, and teleop input.
+"""Timed mission events: cancel, obstacles that appear or move, teleop input, and faults.
 
 The run loop asks :class:`TimedEvents` for the next due time, advances the simulation exactly
 there (rounded up to a physics step) and applies what is due. Obstacles go into the world's
@@ -6,7 +6,8 @@ movable mocap slots (``movable_0..3``, see :mod:`baobab.sim.builder`): the slot'
 resized (``model.geom_size`` and the bounding radius ``geom_rbound`` that collision and
 clearance culling read) and moved (``data.mocap_pos``/``mocap_quat``), so physics, the lidar
 and clearance all see it from that step on. Teleop input is held in a :class:`TeleopChannel`
-for ``duration`` seconds; the assisted-teleop capability reads it from there.
+for ``duration`` seconds; the assisted-teleop capability reads it from there. Faults go to a
+:class:`~baobab.missions.faults.FaultInjector`; a lasting one ends after its ``duration``.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
@@ -22,6 +23,7 @@ import numpy as np
 from baobab.missions.schema import (
     CancelEvent,
     Event,
+    FaultEvent,
     MoveObstacleEvent,
     SpawnObstacleEvent,
     TeleopEvent,
@@ -30,6 +32,9 @@ from baobab.sim.builder import movable_slot_name
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import Simulation
 from baobab.sim.world import MOVABLE_SLOT_COUNT
+
+if TYPE_CHECKING:
+    from baobab.missions.faults import FaultInjector
 
 
 class EventError(BaobabError):
@@ -151,7 +156,8 @@ class _Due:
     time: float
     order: int
     event: Event
-    ends_teleop: bool = False
+    ends: bool = False
+    """True for the end of a lasting event (teleop input, a fault with a duration)."""
 
 
 class TimedEvents:
@@ -161,6 +167,7 @@ class TimedEvents:
         events: the mission's events (any order; ties keep their file order).
         obstacles: where spawn and move events put obstacles (None for fixed robots).
         teleop: where teleop events put their command (None without teleop).
+        faults: what injects fault events (None: a fault event raises EventError).
     """
 
     def __init__(
@@ -168,16 +175,18 @@ class TimedEvents:
         events: Sequence[Event],
         obstacles: ObstacleSlots | None,
         teleop: TeleopChannel | None,
+        faults: FaultInjector | None = None,
     ) -> None:
         due = [_Due(event.at, index, event) for index, event in enumerate(events)]
         due += [
-            _Due(event.at + event.duration, index, event, ends_teleop=True)
+            _Due(event.at + event.duration, index, event, ends=True)
             for index, event in enumerate(events)
-            if isinstance(event, TeleopEvent)
+            if isinstance(event, TeleopEvent | FaultEvent) and event.duration is not None
         ]
-        self._pending = sorted(due, key=lambda d: (d.time, d.ends_teleop is False, d.order))
+        self._pending = sorted(due, key=lambda d: (d.time, d.ends is False, d.order))
         self.obstacles = obstacles
         self.teleop = teleop
+        self.faults = faults
         self.canceled_by: CancelEvent | None = None
         """The cancel event that fired, if any."""
 
@@ -208,7 +217,7 @@ class TimedEvents:
         if isinstance(event, TeleopEvent):
             if self.teleop is None:
                 raise EventError("teleop events need a robot with teleop")
-            if due.ends_teleop:
+            if due.ends:
                 self.teleop.clear()
                 return {"event": "teleop_end", **record}
             self.teleop.set(event.teleop.linear, event.teleop.angular)
@@ -219,6 +228,8 @@ class TimedEvents:
                 "angular": event.teleop.angular,
                 "duration": event.duration,
             }
+        if isinstance(event, FaultEvent):
+            return self._fault(event, due.ends, record)
         if self.obstacles is None:
             raise EventError("obstacle events need a mobile robot in a 2D world")
         if isinstance(event, SpawnObstacleEvent):
@@ -241,3 +252,13 @@ class TimedEvents:
             "yaw": placed.yaw,
             "size": list(placed.size),
         }
+
+    def _fault(self, event: FaultEvent, ends: bool, record: dict[str, Any]) -> dict[str, Any]:
+        if self.faults is None:
+            raise EventError("fault events need a robot that faults can be injected into")
+        kind = event.fault.kind
+        if ends:
+            self.faults.end(event)
+            return {"event": "fault_end", **record, "fault": kind}
+        details = self.faults.start(event)
+        return {"event": "fault", **record, "fault": kind, "duration": event.duration, **details}

@@ -7,7 +7,8 @@ rates. A timed event falls due inside that advance: the sim stops exactly at its
 up to a physics step) and the event is applied there. The loop ends when the root is no
 longer RUNNING, when a cancel event fires or the run is interrupted (the tree is halted, so
 running goals are canceled, and the robot is stopped: CANCELED), or when the mission timeout
-passes (FAILED, ``MISSION_TIMEOUT``). A mission never hangs: the timeout is in sim time and
+passes (FAILED, ``MISSION_TIMEOUT``), or when a fault monitor trips or the physics diverges
+(FAILED with the fault's 99xx code). A mission never hangs: the timeout is in sim time and
 the sim always advances.
 """
 
@@ -49,6 +50,14 @@ class MissionErrorCode(enum.IntEnum):
     """The mission's ``timeout`` (sim time) passed while the tree was still running."""
     SIMULATION_ERROR = 9902
     """The physics diverged."""
+    ROBOT_DISPLACED = 9903
+    """The robot's pose jumped farther than it can drive (teleported, kidnapped)."""
+    SENSOR_TIMEOUT = 9904
+    """No lidar scan arrived for longer than the sensor timeout."""
+    SENSOR_DEGRADED = 9905
+    """The lidar's scans stayed too noisy to trust for longer than the tolerance."""
+    WHEEL_FAULT = 9906
+    """A wheel's measured speed stayed far from its command (motor or wheel failure)."""
 
 
 @dataclass(frozen=True)
@@ -105,6 +114,18 @@ class ProgressSink(Protocol):
         ...
 
 
+class FaultWatch(Protocol):
+    """Watches the robot for faults (:mod:`baobab.missions.fault_monitors`)."""
+
+    def check(self, now: float) -> tuple[MissionErrorCode, str] | None:
+        """The fault seen at ``now`` (s): its code and one line, or None."""
+        ...
+
+    def explain_divergence(self, message: str) -> str:
+        """A SimulationError's message, naming what became non-finite."""
+        ...
+
+
 class Pacer(Protocol):
     """Slows the loop to the wall clock (``--realtime``, the viewer)."""
 
@@ -127,6 +148,8 @@ class RunLoop:
         interrupted: polled every tick; True stops the run as CANCELED (SIGINT).
         on_tick: called after every tick (e.g. to sync a viewer).
         tick_period: s of sim time between ticks.
+        faults: asked every tick for a fault that ends the run FAILED (before the tree
+            ticks), and to explain a divergence.
     """
 
     def __init__(
@@ -142,6 +165,7 @@ class RunLoop:
         interrupted: Callable[[], bool] | None = None,
         on_tick: Callable[[], None] | None = None,
         tick_period: float = TICK_PERIOD,
+        faults: FaultWatch | None = None,
     ) -> None:
         self.compiled = compiled
         self.rig = rig
@@ -153,6 +177,7 @@ class RunLoop:
         self.pacer = pacer
         self.interrupted = interrupted or (lambda: False)
         self.on_tick = on_tick
+        self.faults = faults
         self.tick_steps = self.sim.steps_for(tick_period, what="tick period")
         self.timeout_step = math.ceil(timeout / self.sim.physics_dt - 1e-9)
         self.root = compiled.root
@@ -179,6 +204,9 @@ class RunLoop:
             while True:
                 now = sim.time
                 self._record_state(now)
+                fault = None if self.faults is None else self.faults.check(now)
+                if fault is not None:
+                    return self._fault(*fault)
                 self.compiled.tree.tick()
                 self._record_tree(now)
                 self._report(now)
@@ -199,10 +227,8 @@ class RunLoop:
                 if self.pacer is not None:
                     self.pacer.wait(sim.time)
         except SimulationError as exc:
-            self._halt()
-            return self._end(
-                "FAILED", MissionErrorCode.SIMULATION_ERROR, "SIMULATION_ERROR", str(exc)
-            )
+            message = str(exc) if self.faults is None else self.faults.explain_divergence(str(exc))
+            return self._fault(MissionErrorCode.SIMULATION_ERROR, message)
 
     def _advance_to(self, target_step: int) -> bool:
         """Step to ``target_step``, stopping at due events; True when a cancel event fired."""
@@ -245,6 +271,10 @@ class RunLoop:
         event = self.events.canceled_by
         at = 0.0 if event is None else event.at
         return f"canceled by the mission's cancel event at {at:g} s"
+
+    def _fault(self, code: MissionErrorCode, message: str) -> LoopOutcome:
+        self._halt()
+        return self._end("FAILED", code, code.name, message)
 
     def _timed_out(self) -> LoopOutcome:
         running = self._running_leaf()

@@ -20,6 +20,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+import py_trees
+
 from baobab.missions.compiler import compile_mission
 from baobab.missions.events import TimedEvents
 from baobab.missions.expectations import (
@@ -29,6 +31,8 @@ from baobab.missions.expectations import (
     check_metric_names,
     evaluate,
 )
+from baobab.missions.fault_monitors import fault_monitors
+from baobab.missions.faults import fault_injector
 from baobab.missions.loader import Mission
 from baobab.missions.metrics import MetricValue
 from baobab.missions.plotting import PlotData
@@ -179,7 +183,7 @@ def run_mission(
         params=mission.params,
         timeout=mission.timeout,
     )
-    events = TimedEvents(mission.events, rig.obstacles, rig.teleop)
+    events = TimedEvents(mission.events, rig.obstacles, rig.teleop, fault_injector(rig))
     options = recording or RecordingOptions()
     if viewer:
         options = replace(options, viewer=True)
@@ -195,6 +199,7 @@ def run_mission(
         pacer=pacer,
         interrupted=interrupted,
         on_tick=None if hook is None else hook.after_tick,
+        faults=fault_monitors(rig),
     )
     started = time.perf_counter()
     try:
@@ -202,6 +207,8 @@ def run_mission(
     finally:
         if hook is not None:
             hook.close()
+        # py_trees' blackboard is process-global: nothing a run wrote reaches the next one.
+        py_trees.blackboard.Blackboard.clear()
     wall_time = time.perf_counter() - started
     metrics = rig.metrics.values()
     end = RunEnd(outcome.result, outcome.error_code, outcome.error_name, outcome.sim_time)

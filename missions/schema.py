@@ -121,7 +121,101 @@ class TeleopEvent(_Strict):
     teleop: TeleopCommand
 
 
-EVENT_KINDS = ("cancel", "spawn_obstacle", "move_obstacle", "teleop")
+class TeleportFault(_Strict):
+    """The robot is picked up and put down at rest at (x, y) (m) heading ``yaw`` (rad)."""
+
+    x: Finite
+    y: Finite
+    yaw: Finite = 0.0
+
+
+class LidarDropoutFault(_Strict):
+    """The lidar publishes no scan (its last scan grows old)."""
+
+
+class LidarNoiseFault(_Strict):
+    """Gaussian range noise of ``std`` (m) on every beam, drawn from the run's generator."""
+
+    std: Positive = Field(description="standard deviation of each range reading, m")
+
+
+class WheelFailureFault(_Strict):
+    """One wheel's motor gives no torque: the wheel turns freely."""
+
+    wheel: Literal["left", "right"]
+
+
+class DivergeFault(_Strict):
+    """A non-finite force on the robot's root joint: the physics diverges at the next step."""
+
+
+FAULT_KINDS = ("teleport", "lidar_dropout", "lidar_noise", "wheel_failure", "diverge")
+INSTANT_FAULTS = ("teleport", "diverge")
+"""Faults that happen at once and take no ``duration``."""
+LIDAR_FAULTS = ("lidar_dropout", "lidar_noise")
+"""Faults that need a robot with a lidar."""
+ROBOT_INDEPENDENT_FAULTS = ("diverge",)
+"""Faults any robot can suffer; the others need a mobile robot."""
+
+
+class FaultSpec(_Strict):
+    """Exactly one fault kind, with its parameters (``{}`` or nothing when it has none)."""
+
+    model_config = ConfigDict(
+        extra="forbid", frozen=True, json_schema_extra={"minProperties": 1, "maxProperties": 1}
+    )
+
+    teleport: TeleportFault | None = None
+    lidar_dropout: LidarDropoutFault | None = None
+    lidar_noise: LidarNoiseFault | None = None
+    wheel_failure: WheelFailureFault | None = None
+    diverge: DivergeFault | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _empty_means_defaults(cls, value: Any) -> Any:
+        if isinstance(value, dict):
+            return {
+                key: {} if item is None and key in FAULT_KINDS else item
+                for key, item in value.items()
+            }
+        return value
+
+    @model_validator(mode="after")
+    def _exactly_one(self) -> FaultSpec:
+        if len(self.kinds()) != 1:
+            raise ValueError(f"give exactly one fault kind: {', '.join(FAULT_KINDS)}")
+        return self
+
+    def kinds(self) -> list[str]:
+        """The fault kinds given (one once validated)."""
+        return [kind for kind in FAULT_KINDS if getattr(self, kind) is not None]
+
+    @property
+    def kind(self) -> str:
+        """The fault kind, e.g. ``lidar_dropout``."""
+        return self.kinds()[0]
+
+
+class FaultEvent(_Strict):
+    """Inject a fault at ``at`` s; a lasting fault ends after ``duration`` s (else never)."""
+
+    at: NonNegative
+    duration: Positive | None = Field(
+        default=None, description="s; omitted: the fault lasts to the end of the run"
+    )
+    fault: FaultSpec
+
+    @model_validator(mode="after")
+    def _instant_faults_take_no_duration(self) -> FaultEvent:
+        if self.duration is not None and self.fault.kind in INSTANT_FAULTS:
+            raise FieldError(
+                ("duration",), f"a {self.fault.kind} fault happens at once; it takes no duration"
+            )
+        return self
+
+
+EVENT_KINDS = ("cancel", "spawn_obstacle", "move_obstacle", "teleop", "fault")
 
 
 def _event_kind(value: Any) -> str | None:
@@ -135,7 +229,8 @@ Event = Annotated[
     Annotated[CancelEvent, Tag("<cancel>")]
     | Annotated[SpawnObstacleEvent, Tag("<spawn_obstacle>")]
     | Annotated[MoveObstacleEvent, Tag("<move_obstacle>")]
-    | Annotated[TeleopEvent, Tag("<teleop>")],
+    | Annotated[TeleopEvent, Tag("<teleop>")]
+    | Annotated[FaultEvent, Tag("<fault>")],
     Discriminator(
         _event_kind,
         custom_error_type="event_kind",

@@ -22,8 +22,8 @@ STATIC_GROUP = 1
 MOVABLE_GROUP = 2
 ROBOT_GROUP = 3
 
-PHYSICS_TIMESTEP = 0.002
-"""Default physics step (s): 500 Hz."""
+PHYSICS_TIMESTEP = 0.005
+"""Default physics step (s): 200 Hz, two steps per 100 Hz base-controller tick."""
 
 MOVABLE_PARK_DISTANCE = 1000.0
 """Where unused movable slots wait (m along x): far outside every world and every sensor."""

@@ -121,6 +121,8 @@ class Lidar:
         self._subscribers: list[ScanSubscriber] = []
         self.latest: LaserScan | None = None
         """The most recent scan, or None before the first."""
+        self.silenced = False
+        """While True (a dropout fault) no scan is taken or published; ``latest`` grows old."""
         self.handle: PeriodicHandle = sim.every(1.0 / rate, self._on_tick, name=f"lidar {site}")
 
     def subscribe(self, subscriber: ScanSubscriber) -> None:
@@ -172,6 +174,8 @@ class Lidar:
         )
 
     def _on_tick(self, _time: float) -> None:
+        if self.silenced:
+            return
         scan = self.scan()
         self.latest = scan
         for subscriber in list(self._subscribers):

@@ -8,10 +8,8 @@ the next due callback, so Python only wakes when something has work to do.
 
 from __future__ import annotations
 
-import heapq
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -32,14 +30,17 @@ _FATAL_WARNINGS = {
 _FATAL_INDICES = tuple(int(kind) for kind in _FATAL_WARNINGS)
 
 
-@dataclass(order=True)
 class _Scheduled:
-    next_step: int
-    order: int
-    period_steps: int = field(compare=False)
-    callback: Callback = field(compare=False)
-    name: str = field(compare=False)
-    active: bool = field(default=True, compare=False)
+    """One periodic callback: when it is next due (physics step) and how often."""
+
+    __slots__ = ("active", "callback", "name", "next_step", "period_steps")
+
+    def __init__(self, next_step: int, period_steps: int, callback: Callback, name: str) -> None:
+        self.next_step = next_step
+        self.period_steps = period_steps
+        self.callback = callback
+        self.name = name
+        self.active = True
 
 
 class PeriodicHandle:
@@ -79,14 +80,23 @@ class Simulation:
         self.physics_dt = float(model.opt.timestep)
         self._warning_counts = self.data.warning.number  # a live view of MuJoCo's counters
         self._step = 0
-        self._queue: list[_Scheduled] = []
-        self._order = 0
+        self._revision = 0
+        # In registration order, which is also the order of callbacks due at the same step.
+        # A handful of entries: a scan beats a heap, and the next due step is cached.
+        self._schedule: list[_Scheduled] = []
+        self._next_due: float = math.inf
         mujoco.mj_forward(self.model, self.data)
 
     @property
     def time(self) -> float:
         """Sim time in seconds, as an exact multiple of the physics step."""
         return self._step * self.physics_dt
+
+    @property
+    def state_revision(self) -> int:
+        """A number that changes whenever the physics state may have: each stepping batch and
+        each :meth:`forward`. Readers cache what they derive from the state under it."""
+        return self._revision
 
     @property
     def step_count(self) -> int:
@@ -124,9 +134,9 @@ class Simulation:
         if period_steps <= 0:
             raise SimulationError(f"period of '{name}' must be positive, got {period} s")
         start = self._step if first_call is None else self.steps_for(first_call, what="first call")
-        entry = _Scheduled(max(start, self._step), self._order, period_steps, callback, name)
-        self._order += 1
-        heapq.heappush(self._queue, entry)
+        entry = _Scheduled(max(start, self._step), period_steps, callback, name)
+        self._schedule.append(entry)
+        self._next_due = min(self._next_due, entry.next_step)
         return PeriodicHandle(entry)
 
     def step_for(self, duration: float) -> None:
@@ -145,25 +155,39 @@ class Simulation:
         """
         model, data = self.model, self.data
         while self._step < target_step:
-            self._run_due_callbacks()
-            next_due = self._queue[0].next_step if self._queue else target_step
-            batch = min(next_due, target_step) - self._step
+            if self._next_due <= self._step:
+                self._run_due_callbacks()
+            batch = int(min(self._next_due, target_step)) - self._step
             if batch > 0:
                 mujoco.mj_step(model, data, batch)
                 self._step += batch
+                self._revision += 1
                 self.check_state()
 
     def _run_due_callbacks(self) -> None:
-        queue = self._queue
-        now = self.time
-        while queue and queue[0].next_step <= self._step:
-            entry = heapq.heappop(queue)
-            if not entry.active:
-                continue
-            entry.callback(now)
-            if entry.active:
+        """Run every callback due now, in registration order.
+
+        A callback may register or cancel callbacks: one registered due now runs in this same
+        pass, after those registered before it (it is appended to the list being walked).
+        """
+        now, step = self.time, self._step
+        schedule = self._schedule
+        next_due = math.inf
+        canceled = False
+        index = 0
+        while index < len(schedule):
+            entry = schedule[index]
+            index += 1
+            if entry.active and entry.next_step <= step:
+                entry.callback(now)
                 entry.next_step += entry.period_steps
-                heapq.heappush(queue, entry)
+            if entry.active:
+                next_due = min(next_due, entry.next_step)
+            else:
+                canceled = True
+        if canceled:
+            schedule[:] = [entry for entry in schedule if entry.active]
+        self._next_due = next_due
 
     def check_state(self) -> None:
         """Raise ``SimulationError`` if MuJoCo warned of divergence since the last check.
@@ -182,3 +206,4 @@ class Simulation:
     def forward(self) -> None:
         """Recompute derived quantities (positions, contacts) after editing the state by hand."""
         mujoco.mj_forward(self.model, self.data)
+        self._revision += 1

@@ -196,7 +196,7 @@ def test_cancel_ends_canceled_with_the_robot_at_rest_within_one_cycle() -> None:
     rig = make_rig("walls", Pose2D(x=-2.0, y=-0.5, yaw=0.0))
     handle = rig.server.assisted_teleop(0.0)
     rig.server.teleop_command(0.25, 0.0)
-    rig.sim.step_for(2.014)  # between two control ticks, at full speed
+    rig.sim.step_for(2.015)  # between two control ticks, at full speed
     base = rig.robot.base
     assert base.body_velocity()[0] == pytest.approx(0.22, abs=0.005)
     rig.server.cancel()
@@ -232,7 +232,7 @@ def test_costmaps_are_cleared_at_2_hz_while_active_and_what_the_lidar_sees_stays
     handle = rig.server.assisted_teleop(0.0)
     obstacle = rig.server.local_layers.obstacle_layer.grid.data
     while not times["local"]:
-        rig.sim.step_for(0.002)
+        rig.sim.step_for(rig.sim.physics_dt)
     assert (obstacle == LETHAL_OBSTACLE).sum() > 5  # marked again at once after the clearing
     rig.sim.step_for(3.0)
     handle.cancel()

@@ -134,7 +134,7 @@ def test_reaches_a_goal_behind_a_wall_without_touching_it(goal_name: str) -> Non
     def measure(_time: float) -> None:
         clearance[0] = min(clearance[0], robot.base.min_clearance())
 
-    sim.every(0.004, watch, name="contacts")  # every other physics step
+    sim.every(0.005, watch, name="contacts")  # every physics step
     sim.every(0.05, measure, name="clearance")
     bug.set_goal(goal.x, goal.y)
     start = bug.start

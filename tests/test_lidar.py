@@ -28,7 +28,7 @@ def _first_scan(
     world: World, start: Pose2D | None = None, *, seed: int = 0, lidar_noise_std: float = 0.0
 ) -> LaserScan:
     sim, robot = build_turtlebot3_sim(world, start, seed=seed, lidar_noise_std=lidar_noise_std)
-    sim.step_for(0.002)
+    sim.step_for(sim.physics_dt)
     assert robot.lidar.latest is not None
     return robot.lidar.latest
 

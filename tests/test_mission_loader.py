@@ -145,7 +145,7 @@ MALFORMED = [
      "child: {back_up: {time_allowance: '${d}', distance: 100}}}\n", "11:44",
      "takes 666.667 s, more than the time_allowance 100 s (${d} = 100.0)"),
     ("event without an action", WALLS + WAIT_TREE + "events:\n  - {at: 1.0}\n", "10:5",
-     "an event has 'at' and exactly one of: cancel, spawn_obstacle, move_obstacle, teleop"),
+     "an event has 'at' and exactly one of: cancel, spawn_obstacle, move_obstacle, teleop, fault"),
     ("event after the timeout",
      WALLS + WAIT_TREE + "timeout: 10\nevents:\n  - {at: 20, cancel: true}\n", "11:6",
      "event at 20 s comes after the mission timeout 10 s"),

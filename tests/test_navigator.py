@@ -157,13 +157,18 @@ def test_follow_waypoints_skips_a_waypoint_inside_a_table(cafe: BasicNavigator) 
     waypoints = [goal(cafe, 0.5, -0.5), goal(cafe, -2.0, -0.6), goal(cafe, *TABLE_1)]
     assert cafe.followWaypoints(waypoints) is RunningTask.FOLLOW_WAYPOINTS
     seen: list[int] = []
+    polls_on_the_occupied_waypoint = 0
     while not cafe.isTaskComplete():
         feedback = cafe.getFeedback()
         assert isinstance(feedback, FollowWaypointsFeedback)
         if not seen or seen[-1] != feedback.current_waypoint:
             seen.append(feedback.current_waypoint)
+        polls_on_the_occupied_waypoint += feedback.current_waypoint == 1
         assert sim_time(cafe) < 40.0
-    assert seen == [0, 2]  # waypoint 1 fails (GOAL_OCCUPIED) in the tick it starts
+    assert seen in ([0, 2], [0, 1, 2])
+    # Waypoint 1 fails (GOAL_OCCUPIED) in the loop tick it starts: a 0.1 s poll sees it at most
+    # once, when the tick that reached waypoint 0 and the one that fails 1 fall in two polls.
+    assert polls_on_the_occupied_waypoint <= 1
     assert cafe.getResult() is TaskResult.SUCCEEDED  # stop_on_failure false, as nav2_bringup
     assert cafe.result_future is not None
     response = cafe.result_future.result()

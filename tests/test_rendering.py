@@ -52,13 +52,13 @@ def test_frames_land_on_the_nearest_step_when_the_period_is_not_whole_steps(
 ) -> None:
     sim, _ = build_turtlebot3_sim(load_world("walls"), seed=0)
     sim.step_for(0.1)
-    # 1/30 s is 16.67 physics steps of 2 ms: frame k is due at step 50 + round(k * 500 / 30).
+    # 1/30 s is 6.67 physics steps of 5 ms: frame k is due at step 20 + round(k * 200 / 30).
     video = VideoRecorder(
         sim, tmp_path / "v.mp4", TrackingCamera(BASE), fps=30, width=32, height=24
     )
     sim.step_for(0.5)
     video.close()
-    expected = [(50 + round(k * 500 / 30)) * sim.physics_dt for k in range(15)]
+    expected = [(20 + round(k * 200 / 30)) * sim.physics_dt for k in range(15)]
     np.testing.assert_allclose(video.frame_times, expected, atol=1e-12)
     assert video.frames_written == 15
 

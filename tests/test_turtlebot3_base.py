@@ -17,7 +17,7 @@ from baobab.robots.turtlebot3 import (
     start_turtlebot3,
 )
 from baobab.sim import Simulation
-from baobab.sim.builder import ROBOT_GROUP, world_spec
+from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP, world_spec
 from baobab.sim.world import Box, Floor, Pose2D, World, load_world
 
 
@@ -226,7 +226,7 @@ def test_contacts_name_the_wall_the_robot_drives_into() -> None:
     def watch(_time: float) -> None:
         touched.update(robot.base.robot_contacts())
 
-    robot.sim.every(0.004, watch, name="contacts")
+    robot.sim.every(0.005, watch, name="contacts")
     robot.sim.step_for(6.0)
     assert touched == {"wall"}
     assert robot.base.min_clearance() < 0.005
@@ -238,6 +238,36 @@ def test_min_clearance_sees_rotated_boxes_and_ignores_far_ones() -> None:
     # The box stands on end: its near face is 1.0 - 0.5 m from the robot's centre.
     assert robot.base.min_clearance() == pytest.approx(0.5 - 0.105, abs=2e-3)
     assert robot.base.min_clearance(max_distance=0.2) == math.inf
+
+
+@pytest.mark.parametrize("world", ["cafe", "town"])
+def test_min_clearance_equals_the_exhaustive_search(world: str) -> None:
+    # The culling bounds must never change the answer: compare with mj_geomDistance against
+    # every obstacle geom, at random poses, with a movable box placed at a slant.
+    sim, robot = build_turtlebot3_sim(world)
+    model, data = sim.model, sim.data
+    slot = model.geom("movable_0").id
+    rng = np.random.default_rng(7)
+    footprint = model.geom(robot.names.footprint_geom).id
+    obstacles = [
+        geom
+        for geom in range(model.ngeom)
+        if model.geom_group[geom] in (STATIC_GROUP, MOVABLE_GROUP)
+    ]
+    x0, y0, x1, y1 = model.stat.center[0] - 5, model.stat.center[1] - 10, 5, 10
+    for trial in range(150):
+        x, y = rng.uniform(x0, x0 + 2 * abs(x1)), rng.uniform(y0, y0 + 2 * abs(y1))
+        body = model.geom_bodyid[slot]
+        data.mocap_pos[model.body_mocapid[body]] = [x + 0.4, y - 0.3, 0.25]
+        mujoco.mju_axisAngle2Quat(
+            data.mocap_quat[model.body_mocapid[body]], np.array([0.0, 0.0, 1.0]), trial * 0.3
+        )
+        robot.base.teleport(Pose2D(x=x, y=y, yaw=rng.uniform(-math.pi, math.pi)))
+        exhaustive = min(
+            mujoco.mj_geomDistance(model, data, footprint, geom, 2.0, None) for geom in obstacles
+        )
+        expected = exhaustive if exhaustive < 2.0 else math.inf
+        assert robot.base.min_clearance(2.0) == expected
 
 
 def test_two_robots_attach_under_their_own_prefixes() -> None:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from baobab.robots.turtlebot3.clearance_bounds import ClearanceBounds
 from baobab.robots.turtlebot3.model import BURGER, DEFAULT_PREFIX, BurgerFacts, TurtleBot3Names
 from baobab.sim.builder import FLOOR_GROUP, MOVABLE_GROUP, STATIC_GROUP
 from baobab.sim.simulation import PeriodicHandle, Simulation
@@ -70,7 +71,15 @@ class DiffDriveBase:
         self._root_z = float(model.joint(self.names.root_joint).qpos0[2])
         self._wheels = [data.joint(name) for name in self.names.wheel_joints]
         self._actuators = [data.actuator(name) for name in self.names.wheel_actuators]
-        self._rotation = np.empty(9)
+        self._left_ctrl, self._right_ctrl = (actuator.ctrl for actuator in self._actuators)
+        self._left_angle, self._right_angle = (wheel.qpos for wheel in self._wheels)
+        self._linear_step = facts.max_linear_accel * period  # m/s per tick
+        self._angular_step = facts.max_angular_accel * period  # rad/s per tick
+        self._encoder_tick = 2 * math.pi / facts.encoder_ticks_per_rev  # rad
+        self._rotation_buffer = np.empty(9)
+        self._root_quaternion = self._root.qpos[3:7]  # a view: w, x, y, z
+        self._pose_revision = -1
+        self._pose = Pose2D(x=0.0, y=0.0)
         robot_body = model.body(self.names.body).id
         self._robot_geoms = np.flatnonzero(model.body_rootid[model.geom_bodyid] == robot_body)
         self._is_robot_geom = np.zeros(model.ngeom, dtype=bool)
@@ -79,6 +88,13 @@ class DiffDriveBase:
         obstacle = (model.geom_group == STATIC_GROUP) | (model.geom_group == MOVABLE_GROUP)
         self._obstacle_geoms = np.flatnonzero(obstacle)
         self._footprint = model.geom(self.names.footprint_geom).id
+        self._clearance_bounds = ClearanceBounds(
+            model,
+            data,
+            self._footprint,
+            np.flatnonzero(model.geom_group == STATIC_GROUP),
+            np.flatnonzero(model.geom_group == MOVABLE_GROUP),
+        )
         self._target = (0.0, 0.0)
         self._commanded = (0.0, 0.0)
         self._reset_odometry()
@@ -132,23 +148,24 @@ class DiffDriveBase:
         return left / facts.wheel_radius, right / facts.wheel_radius
 
     def _on_tick(self, time: float) -> None:
-        facts, dt = self.facts, self.period
-        (v_target, w_target), (v, w) = self._target, self._commanded
-        dv = facts.max_linear_accel * dt
-        dw = facts.max_angular_accel * dt
-        v = clamp(v_target, v - dv, v + dv)
-        w = clamp(w_target, w - dw, w + dw)
+        v_target, w_target = self._target
+        v, w = self._commanded
+        v = min(max(v_target, v - self._linear_step), v + self._linear_step)
+        w = min(max(w_target, w - self._angular_step), w + self._angular_step)
         self._commanded = (v, w)
-        for actuator, speed in zip(self._actuators, self.wheel_speeds(v, w), strict=True):
-            actuator.ctrl[0] = speed
+        left, right = self.wheel_speeds(v, w)
+        self._left_ctrl[0] = left
+        self._right_ctrl[0] = right
         self._integrate_odometry(time)
 
     # -- odometry -----------------------------------------------------------------------------
 
     def _encoder_angles(self) -> tuple[float, float]:
-        tick = 2 * math.pi / self.facts.encoder_ticks_per_rev
-        left, right = (float(wheel.qpos[0]) for wheel in self._wheels)
-        return round(left / tick) * tick, round(right / tick) * tick
+        tick = self._encoder_tick
+        return (
+            round(float(self._left_angle[0]) / tick) * tick,
+            round(float(self._right_angle[0]) / tick) * tick,
+        )
 
     def _reset_odometry(self) -> None:
         self._encoders = self._encoder_angles()
@@ -195,27 +212,31 @@ class DiffDriveBase:
 
     # -- ground truth -------------------------------------------------------------------------
 
-    def _rotation_matrix(self) -> np.ndarray:
-        mujoco.mju_quat2Mat(self._rotation, self._root.qpos[3:7])
-        return self._rotation.reshape(3, 3)
+    def _rotation(self) -> list[float]:
+        """The chassis rotation matrix, row-major, as nine floats."""
+        mujoco.mju_quat2Mat(self._rotation_buffer, self._root_quaternion)
+        rotation: list[float] = self._rotation_buffer.tolist()
+        return rotation
 
     def pose(self) -> Pose2D:
         """Ground-truth pose of ``base_link`` in the map frame (m, rad)."""
-        rotation = self._rotation_matrix()
-        position = self._root.qpos
-        return Pose2D(
-            x=float(position[0]),
-            y=float(position[1]),
-            yaw=math.atan2(rotation[1, 0], rotation[0, 0]),
-        )
+        revision = self._sim.state_revision
+        if revision != self._pose_revision:  # several readers per control tick share one
+            r = self._rotation()
+            position = self._root.qpos
+            self._pose = Pose2D(
+                x=float(position[0]), y=float(position[1]), yaw=math.atan2(r[3], r[0])
+            )
+            self._pose_revision = revision
+        return self._pose
 
     def body_velocity(self) -> tuple[float, float]:
         """Ground-truth forward speed (m/s) and yaw rate (rad/s)."""
-        rotation = self._rotation_matrix()
-        velocity = self._root.qvel
+        r = self._rotation()
+        vx, vy, vz, wx, wy, wz = self._root.qvel.tolist()
         # Free joint: linear velocity in the world frame, angular velocity in the body frame.
-        forward = float(rotation[:, 0] @ velocity[:3])
-        yaw_rate = float(rotation[2] @ velocity[3:6])
+        forward = r[0] * vx + r[3] * vy + r[6] * vz
+        yaw_rate = r[6] * wx + r[7] * wy + r[8] * wz
         return forward, yaw_rate
 
     def teleport(self, pose: Pose2D) -> None:
@@ -258,13 +279,14 @@ class DiffDriveBase:
         candidates = self._obstacle_geoms
         if candidates.size == 0:
             return math.inf
-        centre = data.geom_xpos[self._footprint, :2]
-        gaps = np.linalg.norm(data.geom_xpos[candidates, :2] - centre, axis=1)
-        reach = model.geom_rbound[candidates] + model.geom_rbound[self._footprint]
         nearest = math.inf
-        for geom in candidates[gaps - reach < max_distance]:
+        # Nearest bound first: the first bound past the best distance so far ends the search
+        # without changing the result.
+        for lower, geom in self._clearance_bounds.sorted_bounds():
+            if lower >= max_distance or lower >= nearest:
+                break
             distance = mujoco.mj_geomDistance(
-                model, data, self._footprint, int(geom), max_distance, None
+                model, data, self._footprint, geom, max_distance, None
             )
             nearest = min(nearest, distance)
         return nearest if nearest < max_distance else math.inf

@@ -270,7 +270,10 @@ def _add_wheel(
         name=f"wheel_{side}_joint",
         type=mujoco.mjtJoint.mjJNT_HINGE,
         axis=[0.0, 1.0, 0.0],
-        armature=1e-4,
+        # Rotor inertia seen through the gearbox (kg m^2). It also sets the wheel servo's time
+        # constant, armature / kv = 2.5 ms: a servo much stiffer than the 5 ms physics step
+        # (1e-4 gave 0.5 ms) makes the chassis lead, then rock against, ramping wheels.
+        armature=5e-4,
         damping=1e-4,
     )
     # The tyre touches the floor through a flat ellipsoid: one contact point in the middle of
@@ -281,7 +284,7 @@ def _add_wheel(
         size=[radius, half_width, radius],
         friction=[1.0, 0.005, 0.0001],
         condim=3,
-        solref=[0.004, 1.0],
+        solref=[0.01, 1.0],  # the stiffest MuJoCo allows at the 5 ms step
         priority=1,
         group=ROBOT_GROUP,
         rgba=_INVISIBLE,
