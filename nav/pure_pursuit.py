@@ -175,11 +175,9 @@ class RegulatedPurePursuit:
 
     def _carrot(self, local: np.ndarray, lookahead: float) -> tuple[float, float]:
         """The point of the path at the lookahead distance from the robot (the origin)."""
-        distances = np.hypot(local[:, 0], local[:, 1])
-        beyond = distances >= lookahead
-        if not beyond.any():
+        index = _first_beyond(local, lookahead)
+        if index < 0:
             return float(local[-1, 0]), float(local[-1, 1])
-        index = int(np.argmax(beyond))
         if index == 0 or not self.params.use_interpolation:
             return float(local[index, 0]), float(local[index, 1])
         return _circle_segment_intersection(local[index - 1, :2], local[index, :2], lookahead)
@@ -252,6 +250,15 @@ class RegulatedPurePursuit:
             if in_collision(costmap, x, y):
                 return True
         return False
+
+
+@numba.njit(cache=True, nogil=True)
+def _first_beyond(local: np.ndarray, distance: float) -> int:  # pragma: no cover - compiled
+    """Index of the first row of ``local`` at least ``distance`` (m) from the origin, or -1."""
+    for index in range(local.shape[0]):
+        if math.hypot(local[index, 0], local[index, 1]) >= distance:
+            return index
+    return -1
 
 
 @numba.njit(cache=True, nogil=True)

@@ -64,6 +64,21 @@ class PeriodicHandle:
         self._entry.active = False
 
 
+def _keep_warning(message: str) -> None:
+    """MuJoCo's warning handler here: keep the text, write no file, print nothing.
+
+    MuJoCo's default handler prints and appends to ``MUJOCO_LOG.TXT`` in the working
+    directory; the warnings that matter become :class:`SimulationError` through the
+    counters :meth:`Simulation.check_state` reads.
+    """
+    global last_warning
+    last_warning = message
+
+
+last_warning = ""
+"""The text of MuJoCo's latest warning in this process."""
+
+
 class Simulation:
     """Owns MjModel/MjData, the sim clock and the periodic callbacks.
 
@@ -73,6 +88,8 @@ class Simulation:
     """
 
     def __init__(self, model: mujoco.MjModel, *, seed: int = 0) -> None:
+        if mujoco.get_mju_user_warning() is None:
+            mujoco.set_mju_user_warning(_keep_warning)
         self.model = model
         self.data = mujoco.MjData(model)
         self.seed = seed
@@ -179,7 +196,11 @@ class Simulation:
             entry = schedule[index]
             index += 1
             if entry.active and entry.next_step <= step:
-                entry.callback(now)
+                try:
+                    entry.callback(now)
+                except (ValueError, ArithmeticError) as error:
+                    self._raise_if_not_finite(error)
+                    raise
                 entry.next_step += entry.period_steps
             if entry.active:
                 next_due = min(next_due, entry.next_step)
@@ -188,6 +209,19 @@ class Simulation:
         if canceled:
             schedule[:] = [entry for entry in schedule if entry.active]
         self._next_due = next_due
+
+    def _raise_if_not_finite(self, error: Exception) -> None:
+        """Raise ``SimulationError`` (from ``error``) if the state holds a non-finite number.
+
+        A state edited between steps reaches the callbacks before MuJoCo's own check in the
+        next step: a controller fed NaN fails with a ValueError, whose real cause is this.
+        """
+        data = self.data
+        for name in ("qpos", "qvel", "ctrl", "qfrc_applied", "mocap_pos"):
+            if not np.isfinite(getattr(data, name)).all():
+                raise SimulationError(
+                    f"physics diverged at t={self.time:.3f} s: non-finite {name} ({error})"
+                ) from error
 
     def check_state(self) -> None:
         """Raise ``SimulationError`` if MuJoCo warned of divergence since the last check.

@@ -2,10 +2,16 @@
 
 from __future__ import annotations
 
+import math
+import os
+from pathlib import Path
+
 import mujoco
 import numpy as np
 import pytest
 
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
+from baobab.robots.turtlebot3.go_to_goal import GoToGoalController, GoToGoalParams
 from baobab.sim import Simulation, SimulationError
 from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP, geom_ids_in_group, world_spec
 from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World
@@ -104,3 +110,26 @@ def test_world_spec_builds_floor_obstacles_and_movable_slots() -> None:
     sim = Simulation(model)
     sim.step_for(0.1)
     assert sim.data.ncon == 0
+
+
+def test_a_non_finite_state_read_by_a_controller_is_a_simulation_error(tmp_path: Path) -> None:
+    # A NaN written between steps reaches the controllers before MuJoCo's own check: the
+    # controller's ValueError must surface as the SimulationError it really is, and MuJoCo
+    # must not write MUJOCO_LOG.TXT into the working directory.
+    sim, robot = build_turtlebot3_sim("walls")
+    controller = GoToGoalController(sim, robot.base, GoToGoalParams())
+    controller.set_goal(2.0, 2.0)
+    sim.step_for(0.5)
+    sim.data.joint(robot.names.root_joint).qpos[0] = math.nan
+    with pytest.raises(SimulationError, match="non-finite qpos"):
+        sim.step_for(0.1)
+    sim.data.joint(robot.names.root_joint).qpos[0] = 0.0
+    sim.data.joint(robot.names.root_joint).qvel[0] = math.inf
+    cwd = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        with pytest.raises(SimulationError):
+            sim.step_for(0.1)
+    finally:
+        os.chdir(cwd)
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()

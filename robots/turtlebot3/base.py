@@ -79,6 +79,8 @@ class DiffDriveBase:
         self._rotation_buffer = np.empty(9)
         self._root_quaternion = self._root.qpos[3:7]  # a view: w, x, y, z
         self._pose_revision = -1
+        self._velocity_revision = -1
+        self._velocity = (0.0, 0.0)
         self._pose = Pose2D(x=0.0, y=0.0)
         robot_body = model.body(self.names.body).id
         self._robot_geoms = np.flatnonzero(model.body_rootid[model.geom_bodyid] == robot_body)
@@ -232,12 +234,15 @@ class DiffDriveBase:
 
     def body_velocity(self) -> tuple[float, float]:
         """Ground-truth forward speed (m/s) and yaw rate (rad/s)."""
-        r = self._rotation()
-        vx, vy, vz, wx, wy, wz = self._root.qvel.tolist()
-        # Free joint: linear velocity in the world frame, angular velocity in the body frame.
-        forward = r[0] * vx + r[3] * vy + r[6] * vz
-        yaw_rate = r[6] * wx + r[7] * wy + r[8] * wz
-        return forward, yaw_rate
+        revision = self._sim.state_revision
+        if revision != self._velocity_revision:
+            r = self._rotation()
+            vx, vy, vz, wx, wy, wz = self._root.qvel.tolist()
+            # Free joint: linear velocity in the world frame, angular velocity in the body
+            # frame.
+            self._velocity = (r[0] * vx + r[3] * vy + r[6] * vz, r[6] * wx + r[7] * wy + r[8] * wz)
+            self._velocity_revision = revision
+        return self._velocity
 
     def teleport(self, pose: Pose2D) -> None:
         """Put the robot at ``pose`` (map frame) at rest, and restart odometry there."""
