@@ -207,7 +207,7 @@ class RunLoop:
                 fault = None if self.faults is None else self.faults.check(now)
                 if fault is not None:
                     return self._fault(*fault)
-                self.compiled.tree.tick()
+                self._tick_tree()
                 self._record_tree(now)
                 self._report(now)
                 if self.on_tick is not None:
@@ -229,6 +229,20 @@ class RunLoop:
         except SimulationError as exc:
             message = str(exc) if self.faults is None else self.faults.explain_divergence(str(exc))
             return self._fault(MissionErrorCode.SIMULATION_ERROR, message)
+
+    def _tick_tree(self) -> None:
+        """Tick the tree once.
+
+        ``BehaviourTree.tick`` walks every node after the tick to offer it to visitors; with
+        no visitors or handlers (a compiled mission has none) ticking the root is the same
+        tick without that walk.
+        """
+        tree = self.compiled.tree
+        if tree.visitors or tree.pre_tick_handlers or tree.post_tick_handlers:
+            tree.tick()
+            return
+        tree.root.tick_once()
+        tree.count += 1
 
     def _advance_to(self, target_step: int) -> bool:
         """Step to ``target_step``, stopping at due events; True when a cancel event fired."""

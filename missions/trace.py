@@ -29,6 +29,14 @@ def jsonable(value: Any, decimals: int | None = DECIMALS) -> Any:
     """``value`` as plain JSON data: numpy scalars and arrays, tuples, enums, dataclasses and
     pydantic models converted; floats rounded to ``decimals`` places (None keeps them);
     non-finite floats become the strings ``"inf"``, ``"-inf"`` and ``"nan"``."""
+    kind = type(value)
+    if kind is float:  # the common case first: most fields are plain floats
+        if not math.isfinite(value):
+            return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+        rounded = value if decimals is None else round(value, decimals)
+        return 0.0 if rounded == 0 else rounded  # no "-0.0"
+    if kind is dict:
+        return {str(key): jsonable(item, decimals) for key, item in value.items()}
     if isinstance(value, bool) or value is None or isinstance(value, str):
         return value
     if isinstance(value, enum.Enum):
