@@ -401,9 +401,13 @@ class NavigationServer:
         handle = TaskHandle(name, self._on_cancel)
         active = self._active
         if active is not None:
+            # The task's feedback dict goes on with the new goal; the old handle keeps a copy
+            # of its last feedback, so it no longer changes (nor is cleared) once it has ended.
+            last_feedback = dict(active.task.feedback)
             if active.handle.name == name and preempt is not None and preempt(active.task):
                 previous, active.handle = active.handle, handle
                 handle.feedback = active.task.feedback
+                previous.feedback = last_feedback
                 previous.finish(_preempted(name))
                 return handle
             self._active = None
@@ -411,6 +415,7 @@ class NavigationServer:
             self.base.stop()
             same = active.handle.name == name
             active.handle.finish(_preempted(name) if same else _CANCELED)
+        self.follower.path = None  # no current path until the new task plans or brings one
         task = make()
         handle.feedback = task.feedback
         self._active = _Active(handle, task, next_tick=self.sim.time)
