@@ -37,6 +37,9 @@ from baobab.sim.world import World
 if TYPE_CHECKING:
     from baobab.nav.server import NavigationServer
 
+ARM_CONTACT_NAME_PERIOD = 0.01
+"""How often (s) the arm's contacts are looked at for the names of what it touched."""
+
 PATH_SAMPLE_PERIOD = 0.5
 """How often the navigation server's current path is looked at for the plot (s)."""
 MAX_PLOTTED_PATHS = 400
@@ -266,7 +269,14 @@ class ArmRig:
         self.capabilities = Capabilities(clock=lambda: sim.time, arm=self.port)
         self.objects = list(mission.robot.scene_objects)
         self.probe = ArmProbe(
-            sim, lambda: self.server.tcp_pose().position, self.objects, robot_prefix=PREFIX
+            sim,
+            lambda: self.server.tcp_pose().position,
+            self.objects,
+            robot_prefix=PREFIX,
+            # Counted at every step by the arm's compiled loop; Python samples the contacts
+            # only for the names of what was touched.
+            contact_period=ARM_CONTACT_NAME_PERIOD,
+            contact_count=lambda: self.server.contact_steps,
         )
         self.place_target = tuple(float(v) for v in place_target(sim))
         self.metrics = MetricRegistry()
@@ -278,9 +288,7 @@ class ArmRig:
     def _tcp_and_setpoint(self) -> tuple[np.ndarray, np.ndarray]:
         """The tool and the impedance controller's set-point (m, world frame)."""
         server = self.server
-        setpoint_in_base, _ = server.controller.target
-        setpoint = server.base_position + server.base_rotation.apply(setpoint_in_base)
-        return np.asarray(server.tcp_pose().position), setpoint
+        return np.asarray(server.tcp_pose().position), np.asarray(server.setpoint_position())
 
     def state(self) -> dict[str, Any]:
         """Tool pose (m, quaternion x, y, z, w), hand opening (m) and object positions (m)."""

@@ -1,5 +1,5 @@
 """The compiled impedance step against the previous numpy implementation, kept here as the
-reference, and its quaternion helpers against scipy."""
+reference, its chain dynamics against Pinocchio, and its quaternion helpers against scipy."""
 
 from __future__ import annotations
 
@@ -9,6 +9,11 @@ import pytest
 from scipy.linalg import lapack
 from scipy.spatial.transform import Rotation, Slerp
 
+from baobab.robots.panda.chain_dynamics import (
+    CHAIN,
+    chain_parameters,
+    evaluate_chain_buffer,
+)
 from baobab.robots.panda.errors import PandaModelError
 from baobab.robots.panda.impedance import CartesianImpedanceController, ImpedanceGains
 from baobab.robots.panda.impedance_law import store_pose, tracking_error
@@ -166,12 +171,45 @@ def test_kernel_matches_the_numpy_implementation_on_random_states(saturated: boo
             np.testing.assert_allclose(reference[1], slow.quat_ref.coeffs(), rtol=0, atol=1e-12)
             np.testing.assert_allclose(fast.target[1], slow.quat_target.coeffs(), atol=1e-15)
             np.testing.assert_allclose(fast.target_error(), slow.target_error(), atol=1e-12)
-            np.testing.assert_allclose(fast.tcp[1], slow.rotation, rtol=0.0, atol=0.0)
+            # The kernel's own forward kinematics: Pinocchio's up to rounding.
+            np.testing.assert_allclose(fast.tcp[1], slow.rotation, rtol=0.0, atol=1e-14)
             rate_limited = np.isclose(np.abs(torque - previous), 0.001 * TORQUE_RATE_LIMIT)
             limited += int(np.any(rate_limited | (np.abs(torque) == TORQUE_LIMITS)))
             beyond_limit += int(np.any(np.abs(torque) > TORQUE_LIMITS))
     # Both cases ran: the saturated controller was limited, the other went past the limits.
     assert (limited > 100 and beyond_limit == 0) if saturated else beyond_limit > 20
+
+
+def test_chain_kernel_is_pinocchios_kinematics_jacobian_and_bias() -> None:
+    """Forward kinematics, TCP Jacobian (LOCAL_WORLD_ALIGNED) and nonLinearEffects, with a
+    tilted gravity so that every axis of the bias recursion is exercised."""
+    model = PandaModel(gravity=np.array([1.5, -0.8, -9.6]))
+    pin_model, pin_data, frame = model.model, model.data, model.tcp_frame
+    chain = chain_parameters(pin_model, frame)
+    record = chain[0]
+    rng = np.random.default_rng(21)
+    for _ in range(50):
+        q, v = _random_state(model, rng)
+        v *= 3.0  # up to ~9 rad/s: Coriolis terms of the size of gravity's
+        evaluate_chain_buffer(q, v, chain.view(np.float64))
+        pin.framesForwardKinematics(pin_model, pin_data, q)
+        placement = pin_data.oMf[frame]
+        jacobian = pin.computeFrameJacobian(pin_model, pin_data, q, frame, pin.LOCAL_WORLD_ALIGNED)
+        bias = pin.nonLinearEffects(pin_model, pin_data, q, v)
+        np.testing.assert_allclose(record["tcp_position"], placement.translation, atol=1e-14)
+        np.testing.assert_allclose(record["tcp_rotation"], placement.rotation, atol=1e-14)
+        np.testing.assert_allclose(record["jacobian"], jacobian[:, :ARM_DOF], atol=1e-14)
+        np.testing.assert_allclose(record["bias"], bias, rtol=1e-12, atol=1e-11)
+        for joint in range(1, pin_model.njoints):
+            oMi = pin_data.oMi[joint]
+            np.testing.assert_allclose(record["position"][joint - 1], oMi.translation, atol=1e-14)
+    assert CHAIN.itemsize % 8 == 0  # the record travels as a float64 buffer
+
+
+def test_chain_refuses_a_model_of_another_shape() -> None:
+    reduced = pin.buildReducedModel(PandaModel().model, [9], HOME)
+    with pytest.raises(PandaModelError, match="9 one-dof joints"):
+        chain_parameters(reduced, reduced.getFrameId("tcp"))
 
 
 def test_rotation_to_quaternion_matches_scipy() -> None:

@@ -44,4 +44,4 @@ def test_the_arm_pressing_on_the_table_counts_as_contact(tmp_path: Path) -> None
     assert not no_contact.passed and record.exit_code == 1
     assert record.metrics["contact_objects"] == ["table"]
     contacts = record.metrics["contacts"]
-    assert isinstance(contacts, int) and contacts > 100  # samples at 1 kHz: over 0.1 s
+    assert isinstance(contacts, int) and contacts > 100  # physics steps at 1 kHz: over 0.1 s

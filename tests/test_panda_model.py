@@ -141,8 +141,8 @@ def test_scene_keeps_its_own_solver_options() -> None:
     assert model.opt.timestep == pytest.approx(0.001)
     assert model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     assert model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
-    # impratio 100 instead of the no-slip solver (cheaper, see test_panda_physics), and sleep.
-    assert model.opt.impratio == pytest.approx(100.0)
+    # impratio 400 instead of the no-slip solver (cheaper, see test_panda_physics), and sleep.
+    assert model.opt.impratio == pytest.approx(400.0)
     assert model.opt.noslip_iterations == 0
     assert model.opt.enableflags & mujoco.mjtEnableBit.mjENBL_SLEEP
 

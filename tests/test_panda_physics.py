@@ -37,7 +37,7 @@ def _cube_asleep(sim: Simulation) -> bool:
 
 
 def test_a_held_half_kilogram_cube_does_not_creep() -> None:
-    """What the no-slip solver used to guarantee, from impratio 100: < 10 um/s of creep."""
+    """What the no-slip solver used to guarantee, from impratio 400: < 10 um/s of creep."""
     sim, arm = build_panda_sim(cube_xy=(0.45, -0.1), cube_mass=0.5)
     grasp = Pose.top_down((0.45, -0.1, 0.525))
     _finish(sim, arm.move_to(grasp.translated(dz=0.1), 1.0))

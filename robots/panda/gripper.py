@@ -10,15 +10,16 @@ of both fingers touch the same body that is not part of the robot.
 from __future__ import annotations
 
 import mujoco
+import numba
 import numpy as np
 
 from baobab.robots.panda.model import (
     BASE_BODY,
     FINGER_JOINTS,
     GRIPPER_ACTUATOR,
-    LEFT_FINGER_BODY,
+    LEFT_PAD_GEOM,
     MAX_OPENING,
-    RIGHT_FINGER_BODY,
+    RIGHT_PAD_GEOM,
 )
 
 OPENING_SPEED = 0.1
@@ -31,6 +32,18 @@ MIN_GRASP_WIDTH = 0.002
 """Widths (m) above this when closed mean something is between the fingers."""
 
 
+@numba.njit(cache=True, nogil=True)
+def advance_servo(servo: np.ndarray, step: float) -> float:  # pragma: no cover - compiled
+    """Move the set-point ``servo[0]`` towards the goal ``servo[1]`` by at most ``step`` (m).
+
+    Returns the actuator control: the servo acts on the mean finger travel, half the width.
+    """
+    setpoint = servo[0]
+    setpoint += min(step, max(-step, servo[1] - setpoint))
+    servo[0] = setpoint
+    return 0.5 * setpoint
+
+
 class Gripper:
     """MuJoCo side of the Panda hand, for one attached robot.
 
@@ -38,22 +51,34 @@ class Gripper:
         model: the compiled model holding the robot.
         data: its data.
         prefix: the name prefix the robot was attached with (e.g. ``"panda/"``).
+        servo: storage (2,) for the set-point and goal width (m), e.g. a field of a compiled
+            control loop's record that advances the set-point itself (see :func:`advance_servo`);
+            a new array if None.
     """
 
-    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        data: mujoco.MjData,
+        prefix: str = "",
+        *,
+        servo: np.ndarray | None = None,
+    ) -> None:
         self._model = model
         self._data = data
-        self._actuator = model.actuator(prefix + GRIPPER_ACTUATOR).id
+        self.actuator = int(model.actuator(prefix + GRIPPER_ACTUATOR).id)
+        """Index of the gripper's actuator in ``data.ctrl``."""
         left, right = (model.joint(prefix + name) for name in FINGER_JOINTS)
-        # Read at 1 kHz: plain indices into MjData's arrays (fixed storage, bound once).
+        # Plain indices into MjData's arrays (fixed storage, bound once).
         self._qpos, self._qvel, self._ctrl = data.qpos, data.qvel, data.ctrl
         self._left_qpos, self._right_qpos = int(left.qposadr[0]), int(right.qposadr[0])
         self._left_dof, self._right_dof = int(left.dofadr[0]), int(right.dofadr[0])
-        self._left_pads = _pad_geoms(model, prefix + LEFT_FINGER_BODY)
-        self._right_pads = _pad_geoms(model, prefix + RIGHT_FINGER_BODY)
+        self._left_pads = _pad_geoms(model, prefix + LEFT_PAD_GEOM)
+        self._right_pads = _pad_geoms(model, prefix + RIGHT_PAD_GEOM)
         self._robot_body = _in_subtree(model, model.body(prefix + BASE_BODY).id)
-        self._setpoint = self.width
-        self._goal = self.width
+        self.servo = np.zeros(2) if servo is None else servo
+        """Set-point and goal of the width (m)."""
+        self.servo[:] = self.width
 
     @property
     def width(self) -> float:
@@ -68,12 +93,12 @@ class Gripper:
     @property
     def goal_width(self) -> float:
         """The width the hand is moving its set-point to (m)."""
-        return self._goal
+        return float(self.servo[1])
 
     @property
     def setpoint_settled(self) -> bool:
         """True once the commanded set-point has reached the goal width."""
-        return self._setpoint == self._goal
+        return bool(self.servo[0] == self.servo[1])
 
     def command(self, width: float) -> None:
         """Move towards ``width`` (m, clipped to 0 .. 0.08) at :data:`OPENING_SPEED`.
@@ -81,21 +106,19 @@ class Gripper:
         A set-point left squeezing on the far side of the fingers restarts from the current
         width, so opening on an object releases it at once.
         """
-        self._goal = float(np.clip(width, 0.0, MAX_OPENING))
+        goal = float(np.clip(width, 0.0, MAX_OPENING))
+        self.servo[1] = goal
         width_now = self.width
-        if (self._goal - width_now) * (self._setpoint - width_now) < 0.0:
-            self._setpoint = width_now
+        if (goal - width_now) * (self.servo[0] - width_now) < 0.0:
+            self.servo[0] = width_now
 
     def hold_current(self) -> None:
         """Make the current width the goal and set-point (stops a motion where it is)."""
-        self._setpoint = self._goal = self.width
+        self.servo[:] = self.width
 
     def update(self, dt: float) -> None:
         """Advance the set-point by one period ``dt`` (s) and write the actuator control."""
-        step = OPENING_SPEED * dt
-        self._setpoint += min(step, max(-step, self._goal - self._setpoint))
-        # The servo acts on the mean finger travel, half the width.
-        self._ctrl[self._actuator] = 0.5 * self._setpoint
+        self._ctrl[self.actuator] = advance_servo(self.servo, OPENING_SPEED * dt)
 
     def grasped_body(self) -> str | None:
         """Name of the body both fingers' pads touch, if it is not part of the robot."""
@@ -117,11 +140,8 @@ class Gripper:
         )
 
 
-def _pad_geoms(model: mujoco.MjModel, finger_body: str) -> np.ndarray:
-    body = model.body(finger_body).id
-    return np.flatnonzero(
-        (model.geom_bodyid == body) & (model.geom_type == mujoco.mjtGeom.mjGEOM_BOX)
-    )
+def _pad_geoms(model: mujoco.MjModel, pad_geom: str) -> np.ndarray:
+    return np.array([model.geom(pad_geom).id])
 
 
 def _bodies_touched(model: mujoco.MjModel, geoms: np.ndarray, pads: np.ndarray) -> set[int]:

@@ -1,10 +1,11 @@
-"""The impedance law's arithmetic as compiled kernels (numba), on preallocated arrays.
+"""The impedance law's arithmetic as compiled kernels (numba), on preallocated records.
 
-:class:`~baobab.robots.panda.impedance.CartesianImpedanceController` gets the kinematics and
-dynamics from Pinocchio (three calls) and hands Pinocchio's own arrays to
-:func:`impedance_step`, which does the rest of a control step in one call: the seed's error,
-the task and nullspace torques, the saturation and the reference filter. In numpy the same
-law takes ~35 Python-to-C calls and 70-80 us a step; here it is one call of ~2-3 us.
+:func:`control_step` is one whole control step of
+:class:`~baobab.robots.panda.impedance.CartesianImpedanceController` in one call: the chain's
+kinematics and bias torques (:func:`~baobab.robots.panda.chain_dynamics.evaluate_chain`),
+then the seed's error, the task and nullspace torques, the saturation and the reference
+filter (:func:`impedance_law`). In numpy the law alone took ~35 Python-to-C calls and 70-80 us
+a step, and the three Pinocchio calls before it ~5 us; here the whole step is one call.
 
 Quaternions are x, y, z, w as at the public boundaries; the quaternion algebra comes from
 :mod:`baobab.robots.panda.quaternion`.
@@ -17,6 +18,7 @@ import math
 import numba
 import numpy as np
 
+from baobab.robots.panda.chain_dynamics import CHAIN, Record, evaluate_chain
 from baobab.robots.panda.model import ARM_DOF
 from baobab.robots.panda.quaternion import (
     multiply_by_conjugate,
@@ -48,11 +50,17 @@ CONTROLLER_STATE = np.dtype(
         ("position", np.float64, 3),  # measured TCP position, m
         ("rotation", np.float64, (3, 3)),  # measured TCP rotation
         ("tracking", np.float64, 2),  # distance (m) and angle (rad) to the target
+        ("tracking_stale", np.float64),  # 1 when the target moved since "tracking" was taken
     ]
 )
-"""Everything the control step reads and writes besides Pinocchio's arrays, as one record:
-a kernel call with one argument instead of eighteen (numba's dispatch costs ~0.1 us per
-argument). The controller keeps a one-element array of it and numpy views of its fields."""
+"""Everything the law reads and writes besides the chain's results, as one record (all fields
+8 bytes wide)."""
+
+CONTROLLER = np.dtype([("chain", CHAIN), ("state", CONTROLLER_STATE)])
+"""The controller's whole memory: the robot model with its per-step results, and the law's
+state. A kernel call with one argument instead of twenty (numba's dispatch costs ~0.1-0.2 us
+per argument, and more for a structured array than for a plain one, so the kernels take the
+record's memory as a flat float64 buffer and view it as this record again at no cost)."""
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
@@ -125,32 +133,58 @@ def _cholesky_solve_in_place(matrix: np.ndarray, rhs: np.ndarray) -> None:  # pr
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def impedance_step(
+def control_step_buffer(
+    q: np.ndarray, v: np.ndarray, buffer: np.ndarray
+) -> None:  # pragma: no cover - compiled
+    """:func:`control_step` on a one-element :data:`CONTROLLER` array viewed as float64."""
+    control_step(q, v, buffer.view(CONTROLLER)[0])
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def control_step(q: np.ndarray, v: np.ndarray, controller: Record) -> None:  # pragma: no cover
+    """One control step on a :data:`CONTROLLER` record, from the joint state (9 values each).
+
+    Evaluates the chain at ``q``, ``v``, then runs :func:`impedance_law`.
+    """
+    chain = controller.chain
+    evaluate_chain(q, v, chain)
+    impedance_law(
+        q,
+        v,
+        chain.jacobian,
+        chain.bias,
+        chain.tcp_position,
+        chain.tcp_rotation,
+        controller.state,
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def impedance_law(
     q: np.ndarray,
     v: np.ndarray,
-    joint_jacobians: np.ndarray,
+    jacobian: np.ndarray,
     bias: np.ndarray,
     tcp_translation: np.ndarray,
     tcp_rotation: np.ndarray,
-    state: np.ndarray,
+    record: Record,
 ) -> None:  # pragma: no cover - compiled
-    """One control step of the seed's Cartesian impedance law, in the base frame.
+    """The seed's Cartesian impedance law for one step, in the base frame.
 
     The arm is the first ``ARM_DOF`` joints; only they move the TCP.
 
     Args:
         q: joint positions (nv,), rad and m.
         v: joint velocities (nv,), rad/s and m/s.
-        joint_jacobians: Pinocchio's ``data.J`` after ``computeJointJacobians`` (6, nv): the
-            joints' unit twists in the base frame, taken at the base origin.
-        bias: Pinocchio's ``data.nle``, C(q, v) v + g(q) (nv,), N m.
-        tcp_translation: TCP position from Pinocchio's ``data.oMf`` (3,), m.
-        tcp_rotation: TCP rotation matrix from ``data.oMf`` (3, 3).
-        state: a one-element array of :data:`CONTROLLER_STATE`. Reads the gains, limits and
-            set-points and the previous torque; writes the torque, error, measured pose and
-            tracking error, and advances the reference by one filter step.
+        jacobian: TCP Jacobian (6, ARM_DOF), linear rows first, in the base-aligned frame at
+            the TCP.
+        bias: C(q, v) v + g(q) (nv,), N m.
+        tcp_translation: TCP position (3,), m.
+        tcp_rotation: TCP rotation matrix (3, 3).
+        record: a :data:`CONTROLLER_STATE` record. Reads the gains, limits and set-points and
+            the previous torque; writes the torque, error, measured pose and tracking error,
+            and advances the reference by one filter step.
     """
-    record = state[0]
     n = ARM_DOF
     torque, error = record.torque, record.error
     measured_position, measured_rotation = record.position, record.rotation
@@ -160,19 +194,6 @@ def impedance_step(
         measured_position[r] = tcp_translation[r]
         for c in range(3):
             measured_rotation[r, c] = tcp_rotation[r, c]
-    px, py, pz = measured_position[0], measured_position[1], measured_position[2]
-
-    # TCP Jacobian in the base-aligned frame at the TCP: move each twist's reference point
-    # from the base origin to the TCP, v_tcp = v_origin + omega x p (getFrameJacobian, LWA).
-    jacobian = np.empty((6, n))
-    for j in range(n):
-        wx, wy, wz = joint_jacobians[3, j], joint_jacobians[4, j], joint_jacobians[5, j]
-        jacobian[0, j] = joint_jacobians[0, j] + (wy * pz - wz * py)
-        jacobian[1, j] = joint_jacobians[1, j] + (wz * px - wx * pz)
-        jacobian[2, j] = joint_jacobians[2, j] + (wx * py - wy * px)
-        jacobian[3, j] = wx
-        jacobian[4, j] = wy
-        jacobian[5, j] = wz
 
     # e = [x_d - x ; R vec(Q^-1 Q_d)] = [x_d - x ; vec(Q_d Q^-1)], short way round.
     for r in range(3):
@@ -242,3 +263,4 @@ def impedance_step(
     distance, angle = tracking_error(measured_position, measured_rotation, target)
     record.tracking[0] = distance
     record.tracking[1] = angle
+    record.tracking_stale = 0.0

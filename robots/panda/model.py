@@ -34,6 +34,9 @@ TCP_SITE = "tcp"
 GRIPPER_ACTUATOR = "gripper"
 LEFT_FINGER_BODY = "left_finger"
 RIGHT_FINGER_BODY = "right_finger"
+LEFT_PAD_GEOM = "left_pad"
+RIGHT_PAD_GEOM = "right_pad"
+"""The grasp pads, one per fingertip; a grasp is both pads touching the same body."""
 
 ARM_DOF = 7
 MAX_OPENING = 0.08

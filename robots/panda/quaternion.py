@@ -123,3 +123,30 @@ def matrix_to_quaternion(rotation: np.ndarray, out: np.ndarray) -> None:  # prag
     norm = math.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2] + out[3] * out[3])
     for c in range(4):
         out[c] /= norm
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def transform_pose(
+    frame_rotation: np.ndarray,
+    frame_position: np.ndarray,
+    position: np.ndarray,
+    rotation: np.ndarray,
+    out: np.ndarray,
+) -> None:  # pragma: no cover - compiled
+    """Express a pose given in a frame in that frame's parent, into ``out`` (7,).
+
+    ``out[:3]`` = ``frame_rotation @ position + frame_position`` and ``out[3:]`` = the
+    quaternion x, y, z, w of ``frame_rotation @ rotation`` (:func:`matrix_to_quaternion`).
+    """
+    composed = np.empty((3, 3))
+    for r in range(3):
+        value = frame_position[r]
+        for k in range(3):
+            value += frame_rotation[r, k] * position[k]
+        out[r] = value
+        for c in range(3):
+            total = 0.0
+            for k in range(3):
+                total += frame_rotation[r, k] * rotation[k, c]
+            composed[r, c] = total
+    matrix_to_quaternion(composed, out[3:])

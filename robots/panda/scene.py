@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 import baobab.sim
+from baobab.robots.panda import native_loop
 from baobab.robots.panda.arm_server import ArmServer, ArmServerConfig
 from baobab.robots.panda.errors import PandaSceneError
 from baobab.robots.panda.impedance import ImpedanceGains
@@ -64,11 +65,14 @@ def panda_table_spec() -> mujoco.MjSpec:
     """The scene with the Panda attached at the mount frame (prefix ``panda/``).
 
     It carries one sensor, :data:`ROBOT_CONTACT_SENSOR`: the number of contacts between the
-    robot and the world body's geoms (table and floor), counted by MuJoCo inside the step.
+    robot and the world body's geoms (table and floor), counted by MuJoCo inside the step; and
+    it reserves the userdata slots of the arm's compiled control loop
+    (:data:`~baobab.robots.panda.native_loop.USERDATA_SLOTS`).
     """
     spec = mujoco.MjSpec.from_file(str(PANDA_TABLE_XML))
     robot = mujoco.MjSpec.from_file(str(PANDA_XML))
     spec.attach(robot, frame=spec.frame(MOUNT_FRAME), prefix=PREFIX)
+    spec.nuserdata = native_loop.USERDATA_SLOTS
     spec.add_sensor(
         name=ROBOT_CONTACT_SENSOR,
         type=mujoco.mjtSensor.mjSENS_CONTACT,
@@ -136,7 +140,10 @@ def build_panda_sim(
         math.sin(half_yaw),
     ]
     sim.forward()
-    return sim, ArmServer(sim, prefix=PREFIX, gains=gains, config=config)
+    server = ArmServer(
+        sim, prefix=PREFIX, gains=gains, config=config, contact_sensor=ROBOT_CONTACT_SENSOR
+    )
+    return sim, server
 
 
 def place_target(sim: Simulation) -> np.ndarray:
