@@ -16,6 +16,9 @@ import os
 # MuJoCo picks its OpenGL backend when first imported; headless, only EGL can render video.
 if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
     os.environ.setdefault("MUJOCO_GL", "egl")
+# baobab's models need no pydantic plugins, and looking for them reads the metadata of every
+# installed package at start-up; a user who sets the variable keeps their choice.
+os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 import argparse
 import json
@@ -27,16 +30,8 @@ from typing import Any
 
 from baobab.behaviours.ports import Capabilities
 from baobab.missions.compiler import compile_mission
-from baobab.missions.export import to_btcpp, to_dot, to_unicode
-from baobab.missions.json_schema import mission_json_schema
 from baobab.missions.loader import Mission, load_mission
 from baobab.missions.params import parse_assignment
-from baobab.missions.recording_hook import (
-    DEFAULT_FPS,
-    DEFAULT_HOST,
-    DEFAULT_PORT,
-    DEFAULT_VIDEO_SIZE,
-)
 from baobab.missions.registry import NodeKind, default_registry
 from baobab.missions.robot_catalog import ROBOTS
 from baobab.sim.errors import BaobabError, SourceError
@@ -49,9 +44,11 @@ Handler = Callable[[argparse.Namespace], int]
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``baobab`` console script; returns the exit code."""
-    parser = build_parser()
+    arguments = list(sys.argv[1:] if argv is None else argv)
+    command = next((argument for argument in arguments if not argument.startswith("-")), None)
+    parser = build_parser(command)
     try:
-        args = parser.parse_args(argv)
+        args = parser.parse_args(arguments)
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
         return int(exit_.code or 0)
     handler: Handler = args.handler
@@ -67,8 +64,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_INTERRUPTED
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every subcommand."""
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The argument parser with every subcommand.
+
+    Args:
+        command: when it names a subcommand, only that one's arguments are set up (setting up
+            the others imports what only they need, e.g. the teleop terminal for ``teleop``).
+    """
     parser = argparse.ArgumentParser(
         prog="baobab",
         description="Robot missions in YAML, compiled to behaviour trees, run over MuJoCo.",
@@ -76,7 +78,8 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name, (configure, handler, summary) in COMMANDS.items():
         sub = commands.add_parser(name, help=summary, description=summary)
-        configure(sub)
+        if command not in COMMANDS or name == command:
+            configure(sub)
         sub.set_defaults(handler=handler)
     return parser
 
@@ -159,6 +162,8 @@ def _configure_tree(parser: argparse.ArgumentParser) -> None:
 
 
 def _tree(args: argparse.Namespace) -> int:
+    from baobab.missions.export import to_btcpp, to_dot, to_unicode
+
     mission = load_mission(args.mission, _overrides(args))
     if args.format == "btcpp":
         sys.stdout.write(to_btcpp(mission))
@@ -177,6 +182,8 @@ def _configure_schema(parser: argparse.ArgumentParser) -> None:
 
 
 def _schema(args: argparse.Namespace) -> int:
+    from baobab.missions.json_schema import mission_json_schema
+
     text = json.dumps(mission_json_schema(), indent=2) + "\n"
     if args.output is None:
         sys.stdout.write(text)
@@ -256,6 +263,13 @@ def _list(args: argparse.Namespace) -> int:
 
 
 def _configure_run(parser: argparse.ArgumentParser) -> None:
+    from baobab.missions.recording_hook import (
+        DEFAULT_FPS,
+        DEFAULT_HOST,
+        DEFAULT_PORT,
+        DEFAULT_VIDEO_SIZE,
+    )
+
     parser.add_argument(
         "mission", metavar="MISSION", help="a mission file, or the name of a bundled mission"
     )

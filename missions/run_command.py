@@ -26,10 +26,9 @@ from contextlib import contextmanager
 from importlib import resources
 from pathlib import Path
 from types import FrameType
+from typing import TYPE_CHECKING
 
-from baobab.missions.baseline import Baseline, compare, read_baseline, write_baseline
 from baobab.missions.loader import load_mission
-from baobab.missions.progress import LineProgress, LiveProgress, print_summary
 from baobab.missions.recording_hook import (
     DEFAULT_FPS,
     DEFAULT_HOST,
@@ -37,9 +36,12 @@ from baobab.missions.recording_hook import (
     DEFAULT_VIDEO_SIZE,
     RecordingOptions,
 )
-from baobab.missions.run_folder import check_run_folder, default_run_folder, write_run_folder
-from baobab.missions.runner import RunRecord, run_mission
 from baobab.sim.errors import BaobabError
+
+if TYPE_CHECKING:
+    from baobab.missions.baseline import Baseline
+    from baobab.missions.progress import LineProgress, LiveProgress
+    from baobab.missions.runner import RunRecord
 
 
 class MissionNotFoundError(BaobabError):
@@ -101,7 +103,17 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
     if args.seed is not None and args.seed < 0:
         raise BaobabError(f"--seed must be >= 0, got {args.seed}")
     mission = load_mission(resolve_mission(args.mission), overrides)
-    baseline = read_baseline(args.baseline, mission.name) if args.baseline else None
+    baseline = None
+    if args.baseline:
+        from baobab.missions.baseline import read_baseline
+
+        baseline = read_baseline(args.baseline, mission.name)
+    # The simulation stack (MuJoCo, NumPy, the robots) loads only once the mission is valid,
+    # so a bad mission is refused as fast as by `baobab validate`.
+    from baobab.missions.progress import LineProgress, LiveProgress, print_summary
+    from baobab.missions.run_folder import check_run_folder, default_run_folder, write_run_folder
+    from baobab.missions.runner import run_mission
+
     folder: Path = args.out if args.out is not None else default_run_folder(mission.name)
     check_run_folder(folder)
 
@@ -193,6 +205,8 @@ def _warn(message: str) -> None:
 
 def _baseline(record: RunRecord, path: Path, baseline: Baseline | None) -> None:
     """Compare with the baseline, or create it from a run that turned out as intended."""
+    from baobab.missions.baseline import compare, write_baseline
+
     if baseline is not None:
         record.add_expectations(compare(baseline, record.metrics))
         record.extra["baseline"] = {"file": str(path), "status": "compared"}

@@ -7,6 +7,7 @@ and every error names the file, line, column and field.
 
 from __future__ import annotations
 
+import hashlib
 import math
 from functools import cached_property
 from importlib import resources
@@ -16,7 +17,12 @@ from typing import Annotated
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from baobab.sim.errors import WorldError
-from baobab.sim.yaml_source import FieldValueError, describe_validation_error, load_located_yaml
+from baobab.sim.yaml_source import (
+    MAX_FILE_BYTES,
+    FieldValueError,
+    describe_validation_error,
+    load_located_yaml,
+)
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -206,10 +212,36 @@ def load_world(name_or_path: str | Path) -> World:
         path = bundled_world_path(text_name)
     else:
         path = Path(name_or_path)
+    key = _cache_key(path)
+    cached = _LOADED.get(key) if key is not None else None
+    if cached is not None:
+        return cached
     document = load_located_yaml(path, WorldError)
     if not isinstance(document.data, dict):
         raise document.error((), "a world file must be a mapping of keys", WorldError)
     try:
-        return World.model_validate(document.data)
+        world = World.model_validate(document.data)
     except ValidationError as exc:
         raise describe_validation_error(document, exc, (), WorldError) from None
+    if key is not None:
+        if len(_LOADED) >= _LOADED_MAX:
+            _LOADED.pop(next(iter(_LOADED)))
+        _LOADED[key] = world
+    return world
+
+
+_LOADED: dict[tuple[str, bytes], World] = {}
+"""Worlds loaded by this process, by file and content: a World is immutable, so missions in one
+process (``baobab validate`` of many files, a campaign worker) share it instead of parsing the
+same text again."""
+_LOADED_MAX = 32
+
+
+def _cache_key(path: Path) -> tuple[str, bytes] | None:
+    """(resolved path, SHA-256 of the content) of a world file; None if it cannot be read."""
+    try:
+        if not path.is_file() or path.stat().st_size > MAX_FILE_BYTES:
+            return None
+        return str(path.resolve()), hashlib.sha256(path.read_bytes()).digest()
+    except OSError:
+        return None

@@ -17,6 +17,12 @@ import yaml
 from pydantic import ValidationError
 
 from baobab.sim.errors import BaobabError, SourceError
+from baobab.sim.yaml_limits import (
+    ScanProblem,
+    events_at_most,
+    libyaml_available,
+    scan_limits,
+)
 
 MAX_FILE_BYTES = 2_000_000
 MAX_DEPTH = 64
@@ -97,12 +103,6 @@ def _dotted(parts: Iterable[str | int]) -> str:
     return text or "the document"
 
 
-class _Limits:
-    def __init__(self) -> None:
-        self.aliases = 0
-        self.nodes = 0
-
-
 def load_located_yaml(
     path: str | Path,
     error_type: Callable[[str, int, int, str], SourceError] = SourceError,
@@ -144,10 +144,8 @@ def load_located_yaml(
     document = LocatedDocument(shown, None)
     if root is None:
         raise error_type(shown, 1, 1, "the file is empty; expected a YAML mapping")
-    document.marks[()] = (root.start_mark.line + 1, root.start_mark.column + 1)
-    limits = _Limits()
     try:
-        document.data = _to_data(root, (), 0, document, limits, error_type)
+        document.data = _Builder(document, error_type).build_root(root)
     except _SizeLimitError as exc:
         raise exc.error from None
     return document
@@ -163,6 +161,12 @@ class _SizeLimitError(Exception):
 
 _LIBYAML_DEPTH_BOUND = 1000
 """Largest nesting bound for which libyaml's recursive composer is safe on the C stack."""
+_PURE_RETRY_CHARS = 8_192
+"""Up to this length, a text libyaml refuses is read again by pure-Python PyYAML for its exact
+error; beyond, that second pass would cost up to seconds, and libyaml's error is reported."""
+_QUICK_COUNT_CHARS = 400_000
+"""Up to this length, a long text's events are first counted in C: most such texts are under
+the value limit, and then need no event-by-event scan."""
 
 
 def _load_with_libyaml(
@@ -170,17 +174,27 @@ def _load_with_libyaml(
 ) -> LocatedDocument | None:
     """The document through libyaml (~15x faster than pure-Python PyYAML), or None.
 
-    Only clean documents take this path: a text whose nesting could be deep, that has
-    characters PyYAML's reader rejects, or that fails anywhere (syntax, limits, duplicate keys)
-    returns None, and the pure-Python path then gives exactly its located error.
+    Texts that could hold more than ``MAX_NODES`` values, and texts whose nesting could be
+    deep, are first scanned for the value and depth limits (:mod:`baobab.sim.yaml_limits`),
+    which stops early on a huge document. Errors in texts longer than ``_PURE_RETRY_CHARS`` (or
+    deep) are reported as libyaml finds them, since a second, pure-Python pass over a long text
+    costs seconds. A shorter text that fails here (characters PyYAML's reader rejects, syntax,
+    duplicate keys) returns None, and the pure-Python path then gives exactly its located error.
     """
-    c_loader = getattr(yaml, "CSafeLoader", None)
-    if c_loader is None or yaml.reader.Reader.NON_PRINTABLE.search(text):
+    if not libyaml_available() or yaml.reader.Reader.NON_PRINTABLE.search(text):
         return None
-    if _nesting_bound(text) > _LIBYAML_DEPTH_BOUND:
-        return None
+    deep = _nesting_bound(text) > _LIBYAML_DEPTH_BOUND
+    trust_libyaml = deep or len(text) > _PURE_RETRY_CHARS
+    few = len(text) <= MAX_NODES or (
+        not deep and len(text) <= _QUICK_COUNT_CHARS and events_at_most(text, MAX_NODES)
+    )
+    if deep or not few:
+        # After the scan the nesting is at most MAX_DEPTH: safe for libyaml's composer.
+        found = scan_limits(text, MAX_NODES, MAX_DEPTH)
+        if isinstance(found, ScanProblem):
+            raise error_type(shown, found.line, found.column, found.message)
     try:
-        loader = c_loader(text)
+        loader = yaml.CSafeLoader(text)
         try:
             root = loader.get_single_node()
         finally:
@@ -188,12 +202,22 @@ def _load_with_libyaml(
         if root is None:
             return None
         document = LocatedDocument(shown, None)
-        document.marks[()] = (root.start_mark.line + 1, root.start_mark.column + 1)
-        document.data = _to_data(root, (), 0, document, _Limits(), error_type)
+        document.data = _Builder(document, error_type).build_root(root)
     except _SizeLimitError as exc:
         # Refusing a huge document must not cost a second, pure-Python pass over it.
         raise exc.error from None
-    except (yaml.YAMLError, SourceError, RecursionError):
+    except yaml.MarkedYAMLError as exc:
+        if not trust_libyaml:
+            return None
+        mark = exc.problem_mark or exc.context_mark
+        line, column = (mark.line + 1, mark.column + 1) if mark else (1, 1)
+        problem = exc.problem or exc.context or "invalid YAML"
+        raise error_type(shown, line, column, f"YAML syntax error: {problem}") from None
+    except SourceError:
+        if trust_libyaml:
+            raise
+        return None
+    except (yaml.YAMLError, RecursionError):
         return None
     return document
 
@@ -246,75 +270,85 @@ def _read_text(
 _PLAIN_TAGS = {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}
 _CONSTRUCTOR = yaml.SafeLoader.__new__(yaml.SafeLoader)
 yaml.constructor.SafeConstructor.__init__(_CONSTRUCTOR)
+_STR_TAG = "tag:yaml.org,2002:str"
+_INT_TAG = "tag:yaml.org,2002:int"
+_FLOAT_TAG = "tag:yaml.org,2002:float"
+_DECIMAL_CHARACTERS = frozenset("0123456789.eE+-")
+_PLAIN_SCALAR_CONSTRUCTORS = {
+    f"tag:yaml.org,2002:{name}": yaml.SafeLoader.yaml_constructors[f"tag:yaml.org,2002:{name}"]
+    for name in ("null", "bool", "int", "float")
+}
+"""Constructors that build a value straight from a scalar node, without PyYAML's bookkeeping."""
 
 
-def _to_data(
-    node: yaml.Node,
-    key_path: KeyPath,
-    depth: int,
-    document: LocatedDocument,
-    limits: _Limits,
-    error_type: Callable[[str, int, int, str], SourceError],
-) -> Any:
-    line, column = node.start_mark.line + 1, node.start_mark.column + 1
-    limits.nodes += 1
-    if limits.nodes > MAX_NODES:
-        raise _SizeLimitError(
-            error_type(document.path, line, column, f"more than {MAX_NODES} values")
-        )
-    if depth > MAX_DEPTH:
-        raise error_type(document.path, line, column, f"nesting deeper than {MAX_DEPTH} levels")
-    if getattr(node, "_baobab_seen", False):
-        limits.aliases += 1
-        if limits.aliases > MAX_ALIASES:
-            raise error_type(
-                document.path, line, column, f"more than {MAX_ALIASES} aliases (alias bomb?)"
-            )
-    node._baobab_seen = True  # type: ignore[attr-defined]
-    document.marks.setdefault(key_path, (line, column))
-    if isinstance(node, yaml.MappingNode | yaml.SequenceNode) and node.tag not in _PLAIN_TAGS:
-        raise error_type(document.path, line, column, f"unsupported YAML tag {node.tag}")
-    if isinstance(node, yaml.MappingNode):
-        result: dict[str, Any] = {}
-        for key_node, value_node in node.value:
-            if key_node.tag == "tag:yaml.org,2002:merge":
-                raise error_type(
-                    document.path,
-                    key_node.start_mark.line + 1,
-                    key_node.start_mark.column + 1,
-                    "merge keys (<<) are not supported; write the keys out",
-                )
-            key = _scalar(key_node, document, error_type)
-            if not isinstance(key, str | int) or isinstance(key, bool):
-                raise error_type(
-                    document.path,
-                    key_node.start_mark.line + 1,
-                    key_node.start_mark.column + 1,
-                    f"mapping key {key!r} must be a string",
-                )
-            key = str(key)
-            if key in result:
-                first = document.marks.get(key_path + (key,), (0, 0))
-                raise error_type(
-                    document.path,
-                    key_node.start_mark.line + 1,
-                    key_node.start_mark.column + 1,
-                    f"duplicate key '{key}' (first defined at line {first[0]})",
-                )
-            document.marks[key_path + (key,)] = (
-                key_node.start_mark.line + 1,
-                key_node.start_mark.column + 1,
-            )
-            result[key] = _to_data(
-                value_node, key_path + (key,), depth + 1, document, limits, error_type
-            )
-        return result
-    if isinstance(node, yaml.SequenceNode):
+class _Builder:
+    """Turns a composed node graph into plain data, recording marks and enforcing limits."""
+
+    def __init__(
+        self, document: LocatedDocument, error_type: Callable[[str, int, int, str], SourceError]
+    ) -> None:
+        self.document = document
+        self.marks = document.marks
+        self.error_type = error_type
+        self.nodes = 0
+        self.aliases = 0
+        self.seen: set[int] = set()  # ids of the nodes built so far (the graph keeps them alive)
+
+    def build_root(self, root: yaml.Node) -> Any:
+        """The data of the whole document."""
+        self.marks[()] = (root.start_mark.line + 1, root.start_mark.column + 1)
+        return self.build(root, (), 0)
+
+    def _error(self, mark: Any, message: str) -> SourceError:
+        return self.error_type(self.document.path, mark.line + 1, mark.column + 1, message)
+
+    def build(self, node: yaml.Node, key_path: KeyPath, depth: int) -> Any:
+        """The data of ``node`` at ``key_path``, ``depth`` collections below the root."""
+        mark = node.start_mark
+        self.nodes += 1
+        if self.nodes > MAX_NODES:
+            raise _SizeLimitError(self._error(mark, f"more than {MAX_NODES} values"))
+        if depth > MAX_DEPTH:
+            raise self._error(mark, f"nesting deeper than {MAX_DEPTH} levels")
+        identity = id(node)
+        if identity in self.seen:
+            self.aliases += 1
+            if self.aliases > MAX_ALIASES:
+                raise self._error(mark, f"more than {MAX_ALIASES} aliases (alias bomb?)")
+        else:
+            self.seen.add(identity)
+        self.marks.setdefault(key_path, (mark.line + 1, mark.column + 1))
+        kind = type(node)
+        if kind is yaml.ScalarNode:
+            return _scalar(node, self.document, self.error_type)
+        if node.tag not in _PLAIN_TAGS:
+            raise self._error(mark, f"unsupported YAML tag {node.tag}")
+        if kind is yaml.MappingNode:
+            return self._mapping(node, key_path, depth)
         return [
-            _to_data(item, key_path + (index,), depth + 1, document, limits, error_type)
+            self.build(item, key_path + (index,), depth + 1)
             for index, item in enumerate(node.value)
         ]
-    return _scalar(node, document, error_type)
+
+    def _mapping(self, node: yaml.Node, key_path: KeyPath, depth: int) -> dict[str, Any]:
+        result: dict[str, Any] = {}
+        for key_node, value_node in node.value:
+            key_mark = key_node.start_mark
+            if key_node.tag == "tag:yaml.org,2002:merge":
+                raise self._error(key_mark, "merge keys (<<) are not supported; write the keys out")
+            key = _scalar(key_node, self.document, self.error_type)
+            if not isinstance(key, str | int) or isinstance(key, bool):
+                raise self._error(key_mark, f"mapping key {key!r} must be a string")
+            key = str(key)
+            path = key_path + (key,)
+            if key in result:
+                first = self.marks.get(path, (0, 0))
+                raise self._error(
+                    key_mark, f"duplicate key '{key}' (first defined at line {first[0]})"
+                )
+            self.marks[path] = (key_mark.line + 1, key_mark.column + 1)
+            result[key] = self.build(value_node, path, depth + 1)
+        return result
 
 
 def _scalar(
@@ -322,15 +356,33 @@ def _scalar(
     document: LocatedDocument,
     error_type: Callable[[str, int, int, str], SourceError],
 ) -> Any:
+    if type(node) is yaml.ScalarNode and node.tag == _STR_TAG:
+        return node.value
     line, column = node.start_mark.line + 1, node.start_mark.column + 1
     if not isinstance(node, yaml.ScalarNode):
         raise error_type(document.path, line, column, "expected a plain value here")
+    plain = _PLAIN_SCALAR_CONSTRUCTORS.get(node.tag)
+    text = node.value
+    value: Any
     try:
-        value = _CONSTRUCTOR.construct_object(node, deep=True)
+        plain_decimal = text.isascii() and text.isdigit() and (text[0] != "0" or text == "0")
+        if node.tag == _INT_TAG and plain_decimal:
+            value = int(text)  # what PyYAML's constructor returns, without its base handling
+        elif node.tag == _FLOAT_TAG and _DECIMAL_CHARACTERS.issuperset(text):
+            value = float(text)  # no '_', ':', inf or nan: PyYAML's result, faster
+        elif plain is not None:
+            value = plain(_CONSTRUCTOR, node)
+        else:
+            value = _CONSTRUCTOR.construct_object(node, deep=True)
     except Exception as exc:  # an explicit tag (!!int abc, !!timestamp x, !x) makes PyYAML's
         # constructors raise anything from ValueError to AttributeError; all mean a bad value.
         problem = getattr(exc, "problem", None) or f"{node.value!r} is not a valid {node.tag}"
         raise error_type(document.path, line, column, f"invalid value: {problem}") from None
+    finally:
+        # construct_object remembers every node it built: a process loading many files
+        # would keep them all (and their marks) alive.
+        _CONSTRUCTOR.constructed_objects.clear()
+        _CONSTRUCTOR.recursive_objects.clear()
     if isinstance(value, float) and not math.isfinite(value):
         raise error_type(
             document.path, line, column, f"non-finite number {node.value!r}; expected a finite one"

@@ -31,7 +31,15 @@ VALIDATE_MUST_NOT_LOAD = (
     "baobab.nav",
     "baobab.robots.panda",
     "baobab.robots.turtlebot3.base",
+    # what only other commands need: `tree`, `schema`, `run`, `teleop`, `nav2`
+    "baobab.missions.export",
+    "baobab.missions.json_schema",
+    "baobab.missions.recording_hook",
+    "baobab.missions.teleop_command",
+    "baobab.missions.nav2_command",
+    "baobab.robots.turtlebot3.teleop_terminal",
 )
+REFUSED_RUN_MUST_NOT_LOAD = ("numpy", "scipy", "mujoco", "numba", "matplotlib", "baobab.nav")
 MOBILE_RUN_MUST_NOT_LOAD = (
     "pinocchio",
     "baobab.robots.panda",
@@ -70,6 +78,21 @@ def test_validate_of_every_bundled_mission_loads_no_physics_plots_or_navigation(
     loaded = _loaded(script)
     assert "baobab.missions.loader" in loaded  # the check really loaded the missions
     assert _matching(loaded, VALIDATE_MUST_NOT_LOAD) == []
+
+
+def test_run_refuses_a_bad_mission_before_loading_the_simulation(tmp_path: Path) -> None:
+    bad = REPO / "tests" / "bad_inputs" / "missions" / "seed_word.yaml"
+    script = (
+        "import contextlib, io, json, sys\n"
+        "from baobab.missions.cli import main\n"
+        "with contextlib.redirect_stderr(io.StringIO()):\n"
+        f"    code = main(['run', {str(bad)!r}, '--out', {str(tmp_path / 'run')!r}])\n"
+        "assert code == 2, code\n"
+        "print(json.dumps(sorted(sys.modules)))\n"
+    )
+    loaded = _loaded(script)
+    assert "baobab.missions.loader" in loaded
+    assert _matching(loaded, REFUSED_RUN_MUST_NOT_LOAD) == []
 
 
 def test_importing_sim_errors_does_not_load_mujoco_or_the_world_loader() -> None:

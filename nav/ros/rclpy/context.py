@@ -87,6 +87,9 @@ class Context:
 
     def track_node(self, node: Node) -> None:
         """Destroy ``node`` when this context shuts down (held weakly)."""
+        # Nodes dropped without destroy_node() leave dead references; a script that makes
+        # navigators in a loop must not pile them up.
+        self._nodes = [reference for reference in self._nodes if reference() is not None]
         self._nodes.append(weakref.ref(node))
 
     def untrack_node(self, node: Node) -> None:
