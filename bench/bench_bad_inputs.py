@@ -57,13 +57,13 @@ def huge_inputs(folder: Path) -> dict[str, tuple[Path, tuple[str, ...]]]:
         "values 50,500": HEADER + BODY + "description: [" + "0, " * 50_500 + "0]\n",
         "values 200,500": HEADER + BODY + "description: [" + "0, " * 200_500 + "0]\n",
         "values in 1.9 MB": HEADER + BODY + "description: [" + "0, " * 630_000 + "0]\n",
-        "values 45,000 under the limit": HEADER + BODY + "description: [" + "0, " * 45_000 + "0]\n",
-        "nested lists 20,000 under the limit": HEADER
+        "values 19,000 under the limit": HEADER + BODY + "description: [" + "0, " * 19_000 + "0]\n",
+        "nested lists 18,000 under the limit": HEADER
         + BODY
         + "description: ["
-        + "[0], " * 10_000
+        + "[0], " * 9_000
         + "0]\n",
-        "block list 45,000 under the limit": HEADER + BODY + "description:\n" + "- 0\n" * 45_000,
+        "block list 19,000 under the limit": HEADER + BODY + "description:\n" + "- 0\n" * 19_000,
         "alias fan-out 60 x 1,000": HEADER
         + BODY
         + "a: &a ["

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import functools
 import math
+from array import array
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -187,9 +188,10 @@ class MobileProbe:
         start = base.pose()
         self.start = (start.x, start.y, start.yaw)
         self._root_qpos = sim.data.joint(base.names.root_joint).qpos
-        self.times: list[float] = []
-        self.xs: list[float] = []
-        self.ys: list[float] = []
+        # 50 Hz for hours: packed doubles take a third of the memory of a list of floats.
+        self.times = array("d")
+        self.xs = array("d")
+        self.ys = array("d")
         self.path_length = 0.0
         self.min_clearance = math.inf
         self.min_clearance_at: tuple[float, float, float] | None = None

@@ -27,7 +27,7 @@ from baobab.sim.yaml_limits import (
 MAX_FILE_BYTES = 2_000_000
 MAX_DEPTH = 64
 MAX_ALIASES = 100
-MAX_NODES = 50_000
+MAX_NODES = 20_000
 
 KeyPath = tuple[str | int, ...]
 
