@@ -18,7 +18,7 @@ from baobab.robots.turtlebot3 import TurtleBot3, build_turtlebot3_sim
 from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP, movable_slot_name
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle, TaskStatus
-from baobab.sim.world import Pose2D, World, load_world
+from baobab.sim.world import Box, Floor, Pose2D, World, load_world
 
 CONTACT_PERIOD = 0.01
 """How often (s of sim time) the contact watch looks."""
@@ -105,3 +105,19 @@ def distance(a: Pose2D, b: Pose2D) -> float:
 def yaw_error(a: Pose2D, b: Pose2D) -> float:
     """Absolute heading difference (rad) between two poses."""
     return abs(math.remainder(a.yaw - b.yaw, 2 * math.pi))
+
+
+def sealed_room() -> World:
+    """A 2 m x 2 m room without a door east of the spawn: goals inside fail, slowly."""
+    walls = [
+        Box(name="room_north", center=(1.5, 2.0), size=(2.1, 0.1)),
+        Box(name="room_south", center=(1.5, 0.0), size=(2.1, 0.1)),
+        Box(name="room_east", center=(2.5, 1.0), size=(0.1, 2.1)),
+        Box(name="room_west", center=(0.5, 1.0), size=(0.1, 2.1)),
+    ]
+    return World(
+        name="sealed",
+        floor=Floor(size=(6.0, 6.0)),
+        boxes=walls,
+        spawns={"default": Pose2D(x=-1.5, y=-1.5)},
+    )

@@ -72,6 +72,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, Phase, example, given, settings
 from hypothesis import strategies as st
+from navigation_rig import sealed_room
 
 from baobab.nav import BasicNavigator, TaskResult
 from baobab.nav.errors import AssistedTeleopError, ComputePathToPoseError
@@ -88,7 +89,7 @@ from baobab.robots.turtlebot3.base import DiffDriveBase
 from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
-from baobab.sim.world import Box, Floor, Pose2D, World
+from baobab.sim.world import Pose2D, World
 
 LINEAR_AT_REST = 0.01
 """m/s: a base slower than this is at rest."""
@@ -478,22 +479,6 @@ def assisted_teleop(navigator: BasicNavigator, variant: int) -> Finish:
         assert navigator.getResult() is TaskResult.SUCCEEDED, navigator.getTaskError()
 
     return finish
-
-
-def sealed_room() -> World:
-    """A 2 m x 2 m room without a door (tests/test_recoveries.py): goals inside fail slowly."""
-    walls = [
-        Box(name="room_north", center=(1.5, 2.0), size=(2.1, 0.1)),
-        Box(name="room_south", center=(1.5, 0.0), size=(2.1, 0.1)),
-        Box(name="room_east", center=(2.5, 1.0), size=(0.1, 2.1)),
-        Box(name="room_west", center=(0.5, 1.0), size=(0.1, 2.1)),
-    ]
-    return World(
-        name="sealed",
-        floor=Floor(size=(6.0, 6.0)),
-        boxes=walls,
-        spawns={"default": Pose2D(x=-1.5, y=-1.5)},
-    )
 
 
 SPIN_END = (0.02, 0.1)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from navigation_rig import distance, make_rig
+from navigation_rig import distance, make_rig, sealed_room
 
 from baobab.nav.errors import (
     AssistedTeleopError,
@@ -147,24 +147,8 @@ def test_assisted_teleop_slows_down_before_a_wall_and_times_out() -> None:
     assert preempted.outcome is not None and preempted.outcome.status is TaskStatus.SUCCEEDED
 
 
-def _sealed_room() -> World:
-    """A 2 m x 2 m room without a door east of the spawn."""
-    walls = [
-        Box(name="room_north", center=(1.5, 2.0), size=(2.1, 0.1)),
-        Box(name="room_south", center=(1.5, 0.0), size=(2.1, 0.1)),
-        Box(name="room_east", center=(2.5, 1.0), size=(0.1, 2.1)),
-        Box(name="room_west", center=(0.5, 1.0), size=(0.1, 2.1)),
-    ]
-    return World(
-        name="sealed",
-        floor=Floor(size=(6.0, 6.0)),
-        boxes=walls,
-        spawns={"default": Pose2D(x=-1.5, y=-1.5)},
-    )
-
-
 def test_a_goal_sealed_off_by_walls_fails_with_no_valid_path_after_the_recoveries() -> None:
-    rig = make_rig(_sealed_room())
+    rig = make_rig(sealed_room())
     handle = rig.server.navigate_to_pose(Pose2D(x=1.5, y=1.0))
     took = rig.run(handle, 60.0)
     outcome = handle.outcome
