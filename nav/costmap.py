@@ -87,7 +87,8 @@ class Costmap2D:
         """The cell ``(ix, iy)`` that contains map point ``(x, y)`` (m), or None outside."""
         ix = math.floor((x - self.origin_x) / self.resolution)
         iy = math.floor((y - self.origin_y) / self.resolution)
-        if 0 <= ix < self.size_x and 0 <= iy < self.size_y:
+        size_y, size_x = self.data.shape
+        if 0 <= ix < size_x and 0 <= iy < size_y:
             return ix, iy
         return None
 
@@ -126,7 +127,7 @@ class Costmap2D:
         cell = self.world_to_map(x, y)
         if cell is None:
             return outside
-        return int(self.data[cell[1], cell[0]])
+        return int(self.data.item(cell[1], cell[0]))
 
     def costs(self, xs: np.ndarray, ys: np.ndarray, outside: int = NO_INFORMATION) -> np.ndarray:
         """Vectorised :meth:`cost` (``uint8`` array shaped like ``xs``)."""
