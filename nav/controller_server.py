@@ -89,8 +89,7 @@ class PathFollower:
         """Switch to an updated path (replanning); progress keeps counting."""
         self.path = path
         self.goal_checker.reset()
-        steps = np.hypot(*np.diff(path.xy, axis=0).T) if len(path) > 1 else np.zeros(0)
-        self._lengths = np.concatenate([[0.0], np.cumsum(steps)])
+        self._lengths = path.cumulative_lengths
 
     def remaining_length(self) -> float:
         """Length (m) of :attr:`located_path` from the pose closest to the robot last cycle."""

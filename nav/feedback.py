@@ -33,8 +33,7 @@ class PathProgress:
         """Path length (m) from the pose of ``path`` closest to ``(x, y)`` to its end."""
         if path is not self._path:
             self._path = path
-            steps = np.hypot(*np.diff(path.xy, axis=0).T) if len(path) > 1 else np.zeros(0)
-            self._lengths = np.concatenate([[0.0], np.cumsum(steps)])
+            self._lengths = path.cumulative_lengths
             self.closest_index = 0
         if len(path) == 0:
             return 0.0

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -55,6 +56,17 @@ class Path:
     def yaws(self) -> np.ndarray:
         """``(N,)`` headings (rad)."""
         return self.poses[:, 2]
+
+    @cached_property
+    def cumulative_lengths(self) -> np.ndarray:
+        """``(N,)`` length (m) of the polyline from the first pose to each pose (read-only).
+
+        Computed once per path: the poses cannot change.
+        """
+        steps = np.hypot(*np.diff(self.xy, axis=0).T) if len(self) > 1 else np.zeros(0)
+        lengths = np.concatenate([[0.0], np.cumsum(steps)])
+        lengths.setflags(write=False)
+        return lengths
 
     def pose(self, index: int) -> Pose2D:
         """Pose ``index`` (negative counts from the end)."""

@@ -146,8 +146,7 @@ class RegulatedPurePursuit:
         if path is not self._path:
             self._path = path
             self.closest_index = 0
-            steps = np.hypot(*np.diff(path.xy, axis=0).T) if len(path) > 1 else np.zeros(0)
-            self._along = np.concatenate([[0.0], np.cumsum(steps)])
+            self._along = path.cumulative_lengths
         extent = max(costmap.size_x, costmap.size_y) * costmap.resolution / 2
         search_dist = self.params.max_robot_pose_search_dist or extent
         self.closest_index, local = _transform_kernel(
@@ -221,7 +220,7 @@ class RegulatedPurePursuit:
                 cost_speed = speed * p.cost_scaling_gain * distance / p.cost_scaling_dist
         speed = max(min(curvature_speed, cost_speed), p.regulated_linear_scaling_min_speed)
         # Approach: once the remaining path is short, scale with the distance to its end.
-        steps = np.diff(local[:, :2], axis=0)
+        steps = local[1:, :2] - local[:-1, :2]  # np.diff's result, without its overhead
         remaining = float(np.hypot(steps[:, 0], steps[:, 1]).sum())
         if remaining < p.approach_velocity_scaling_dist:
             scaling = math.hypot(local[-1, 0], local[-1, 1]) / p.approach_velocity_scaling_dist
