@@ -24,6 +24,7 @@ import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -279,23 +280,24 @@ def memory_figures() -> list[Figure]:
     ]
 
 
+def _script_report(script: str, *, quiet: bool = False) -> Any:
+    """Run ``bench/<script>`` in a fresh process and return the JSON report it writes."""
+    with tempfile.TemporaryDirectory() as out:
+        report_path = Path(out) / "report.json"
+        subprocess.run(
+            [sys.executable, str(REPO / "bench" / script), "--output", str(report_path)],
+            check=True,
+            stdout=subprocess.DEVNULL if quiet else None,
+        )
+        return json.loads(report_path.read_text())
+
+
 def longrun_figures() -> list[Figure]:
     """Issue 12: memory over 200 runs in one process, drift over a 2-hour patrol (minutes).
 
     Runs bench/bench_longrun.py in a fresh process, so the memory is that of the long run only.
     """
-    with tempfile.TemporaryDirectory() as out:
-        report_path = Path(out) / "bench_longrun.json"
-        subprocess.run(
-            [
-                sys.executable,
-                str(REPO / "bench" / "bench_longrun.py"),
-                "--output",
-                str(report_path),
-            ],
-            check=True,
-        )
-        report = json.loads(report_path.read_text())
+    report = _script_report("bench_longrun.py")
     command = "python bench/bench_longrun.py"
     figures = [
         Figure(
@@ -326,19 +328,7 @@ def longrun_figures() -> list[Figure]:
 
 def bad_input_figures() -> list[Figure]:
     """Issue 12: the slowest refusal of a bad input by the real command (s)."""
-    with tempfile.TemporaryDirectory() as out:
-        report_path = Path(out) / "bench_bad_inputs.json"
-        subprocess.run(
-            [
-                sys.executable,
-                str(REPO / "bench" / "bench_bad_inputs.py"),
-                "--output",
-                str(report_path),
-            ],
-            check=True,
-            stdout=subprocess.DEVNULL,
-        )
-        report = json.loads(report_path.read_text())
+    report = _script_report("bench_bad_inputs.py", quiet=True)
     return [
         Figure(
             f"bad input: slowest of {len(report['timings'])} refusals (exit 2, one line)",

@@ -30,12 +30,10 @@ def jsonable(value: Any, decimals: int | None = DECIMALS) -> Any:
     pydantic models converted; floats rounded to ``decimals`` places (None keeps them);
     non-finite floats become the strings ``"inf"``, ``"-inf"`` and ``"nan"``."""
     kind = type(value)
-    if kind is float:  # the common case first: most fields are plain floats
-        if not math.isfinite(value):
-            return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
-        rounded = value if decimals is None else round(value, decimals)
-        return 0.0 if rounded == 0 else rounded  # no "-0.0"
-    if kind is dict:
+    # Plain floats and dicts first: they are most of every record.
+    if kind is float or isinstance(value, np.floating):
+        return _json_float(float(value), decimals)
+    if kind is dict or isinstance(value, Mapping):
         return {str(key): jsonable(item, decimals) for key, item in value.items()}
     if isinstance(value, bool) or value is None or isinstance(value, str):
         return value
@@ -43,14 +41,8 @@ def jsonable(value: Any, decimals: int | None = DECIMALS) -> Any:
         return jsonable(value.value, decimals)
     if isinstance(value, int | np.integer):
         return int(value)
-    if isinstance(value, float | np.floating):
-        number = float(value)
-        if not math.isfinite(number):
-            return "nan" if math.isnan(number) else ("inf" if number > 0 else "-inf")
-        rounded = number if decimals is None else round(number, decimals)
-        return 0.0 if rounded == 0 else rounded  # no "-0.0"
-    if isinstance(value, Mapping):
-        return {str(key): jsonable(item, decimals) for key, item in value.items()}
+    if isinstance(value, float):  # a float subclass
+        return _json_float(float(value), decimals)
     if isinstance(value, list | tuple | np.ndarray):
         return [jsonable(item, decimals) for item in value]
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
@@ -59,6 +51,14 @@ def jsonable(value: Any, decimals: int | None = DECIMALS) -> Any:
     if callable(dump):
         return jsonable(dump(), decimals)
     return str(value)
+
+
+def _json_float(number: float, decimals: int | None) -> float | str:
+    """``number`` rounded to ``decimals`` places, no ``-0.0``; non-finite ones as strings."""
+    if not math.isfinite(number):
+        return "nan" if math.isnan(number) else ("inf" if number > 0 else "-inf")
+    rounded = number if decimals is None else round(number, decimals)
+    return 0.0 if rounded == 0 else rounded
 
 
 class Trace:

@@ -6,11 +6,10 @@ only for the obstacles that could be the nearest: the others are ruled out by a 
 A bound for any geom is the centre gap less both bounding radii. For an upright box it is the
 gap in the floor plane between the footprint's centre and the box's rectangle, less the
 footprint radius (the box and the upright footprint cylinder project onto these), less
-:data:`BOUND_MARGIN`. Geoms that never move (the static obstacles) have their part of the
-computation prepared once, and their bounds are reused while the footprint stays within
-:data:`REUSE_DISTANCE` of where they were computed, lowered by the distance moved since: every
-bound is 1-Lipschitz in the footprint's position, so it stays a lower bound. The few movable
-geoms are read afresh each time.
+:data:`BOUND_MARGIN`. The bounds of geoms that never move (the static obstacles) are reused
+while the footprint stays within :data:`REUSE_DISTANCE` of where they were computed, lowered by
+the distance moved since: every bound is 1-Lipschitz in the footprint's position, so it stays a
+lower bound. The few movable geoms are bounded afresh each time.
 """
 
 from __future__ import annotations
@@ -29,8 +28,8 @@ REUSE_DISTANCE = 0.1
 """How far (m) the footprint may move before the static bounds are computed again."""
 
 
-def _upright_box(kind: int, rotation: list[float]) -> bool:
-    return kind == BOX and rotation[8] > 1.0 - 1e-9
+_Row = tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]
+"""A geom's id, and views of its position, rotation, size and bounding radius; its type."""
 
 
 class ClearanceBounds:
@@ -51,86 +50,58 @@ class ClearanceBounds:
         static_geoms: np.ndarray,
         movable_geoms: np.ndarray,
     ) -> None:
-        self._model, self._data = model, data
-        self._footprint = footprint
-        self._static_ids = static_geoms.tolist()
-        self._movable_ids = movable_geoms.tolist()
-        # Row views into the model and data, made once: fancy indexing costs more per call.
-        self._movable_rows = [
-            (
-                geom,
-                data.geom_xpos[geom],
-                data.geom_xmat[geom],
-                model.geom_size[geom],
-                model.geom_rbound[geom : geom + 1],
-                int(model.geom_type[geom]),
-            )
-            for geom in self._movable_ids
-        ]
-        rotations = data.geom_xmat[static_geoms]
-        self._centres = data.geom_xpos[static_geoms, :2].copy()
-        self._rbound = model.geom_rbound[static_geoms].copy()
-        self._box = np.array(
-            [
-                _upright_box(kind, rotation)
-                for kind, rotation in zip(
-                    model.geom_type[static_geoms].tolist(), rotations.tolist(), strict=True
+        self._data, self._footprint = data, footprint
+        self._own_radius = float(model.geom_rbound[footprint])
+        self._footprint_radius = float(model.geom_size[footprint, 0])
+
+        # Row views into the model and data, made once: they follow every change, and
+        # reading them costs less than indexing the whole arrays at each call.
+        def rows(geoms: np.ndarray) -> list[_Row]:
+            return [
+                (
+                    geom,
+                    data.geom_xpos[geom],
+                    data.geom_xmat[geom],
+                    model.geom_size[geom],
+                    model.geom_rbound[geom : geom + 1],
+                    int(model.geom_type[geom]),
                 )
-            ],
-            dtype=bool,
-        )
-        # Box axes in the plane (first two rows of the first two columns) and half sizes.
-        self._axes = rotations[:, [0, 3, 1, 4]].copy()
-        self._half = model.geom_size[static_geoms, :2].copy()
+                for geom in geoms.tolist()
+            ]
+
+        self._static_rows = rows(static_geoms)
+        self._movable_rows = rows(movable_geoms)
         self._static_at = (math.inf, math.inf)
         self._static_bounds: list[tuple[float, int]] = []
 
     def sorted_bounds(self) -> list[tuple[float, int]]:
         """``(lower bound (m), geom id)`` of every obstacle geom, nearest bound first."""
-        model, data, footprint = self._model, self._data, self._footprint
-        cx, cy = data.geom_xpos[footprint, :2].tolist()
-        own_radius = float(model.geom_rbound[footprint])
-        footprint_radius = float(model.geom_size[footprint, 0])
+        cx, cy = self._data.geom_xpos[self._footprint, :2].tolist()
         moved = math.hypot(cx - self._static_at[0], cy - self._static_at[1])
         if moved > REUSE_DISTANCE:
-            self._static_bounds = self._static(cx, cy, own_radius, footprint_radius)
+            self._static_bounds = self._bounds(self._static_rows, cx, cy)
+            self._static_bounds.sort(key=lambda pair: pair[0])
             self._static_at, moved = (cx, cy), 0.0
         pairs = [(bound - moved, geom) for bound, geom in self._static_bounds]
         if self._movable_rows:
-            pairs.extend(self._movable_bounds(cx, cy, own_radius, footprint_radius))
+            pairs.extend(self._bounds(self._movable_rows, cx, cy))
             pairs.sort(key=lambda pair: pair[0])
         return pairs
 
-    def _static(
-        self, cx: float, cy: float, own_radius: float, footprint_radius: float
-    ) -> list[tuple[float, int]]:
-        """The static geoms' bounds from ``(cx, cy)`` (m), nearest first."""
-        dx = cx - self._centres[:, 0]
-        dy = cy - self._centres[:, 1]
-        bounds = np.hypot(dx, dy) - (self._rbound + own_radius)
-        axes = self._axes
-        outside_x = np.maximum(np.abs(axes[:, 0] * dx + axes[:, 1] * dy) - self._half[:, 0], 0.0)
-        outside_y = np.maximum(np.abs(axes[:, 2] * dx + axes[:, 3] * dy) - self._half[:, 1], 0.0)
-        planar = np.hypot(outside_x, outside_y) - (footprint_radius + BOUND_MARGIN)
-        bounds = np.where(self._box, np.maximum(bounds, planar), bounds)
-        pairs = list(zip(bounds.tolist(), self._static_ids, strict=True))
-        pairs.sort(key=lambda pair: pair[0])
-        return pairs
-
-    def _movable_bounds(
-        self, cx: float, cy: float, own_radius: float, footprint_radius: float
-    ) -> list[tuple[float, int]]:
-        """The movable geoms' bounds from ``(cx, cy)`` (m), read from the current state."""
+    def _bounds(self, rows: list[_Row], cx: float, cy: float) -> list[tuple[float, int]]:
+        """``(lower bound (m), geom id)`` of each geom of ``rows`` from ``(cx, cy)`` (m)."""
         pairs = []
-        for geom, xpos, xmat, size, rbound, kind in self._movable_rows:
+        for geom, xpos, xmat, size, rbound, kind in rows:
             x, y, _ = xpos.tolist()
-            r = xmat.tolist()
             gx, gy = cx - x, cy - y
-            bound = math.hypot(gx, gy) - (float(rbound[0]) + own_radius)
-            if _upright_box(kind, r):
+            bound = math.hypot(gx, gy) - (float(rbound[0]) + self._own_radius)
+            r = xmat.tolist()
+            if kind == BOX and r[8] > 1.0 - 1e-9:  # an upright box
                 sx, sy, _ = size.tolist()
+                # The offset in the box frame, R^T (p - c), in the plane.
                 along_x = max(abs(r[0] * gx + r[3] * gy) - sx, 0.0)
                 along_y = max(abs(r[1] * gx + r[4] * gy) - sy, 0.0)
-                bound = max(bound, math.hypot(along_x, along_y) - footprint_radius - BOUND_MARGIN)
+                planar = math.hypot(along_x, along_y) - self._footprint_radius - BOUND_MARGIN
+                bound = max(bound, planar)
             pairs.append((bound, geom))
         return pairs
