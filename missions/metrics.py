@@ -5,10 +5,11 @@ A metric is a name, a unit and a function that reads its value at the end of the
 probes sample in periodic sim callbacks, so every figure is a function of the sim alone:
 
 - :class:`MobileProbe`: ground-truth path length (50 Hz), minimum clearance of the footprint
-  to any obstacle (20 Hz; one ``mj_geomDistance`` per obstacle within 2 m costs about 55 us
-  in the walls world, about 1 ms per sim second), robot-obstacle contacts (100 Hz, from
-  ``data.contact`` with precomputed group masks), locations entered in order, start and final
-  pose.
+  to any obstacle (20 Hz, ``mj_geomDistance`` on the obstacles its bounds cannot rule out),
+  robot-obstacle contacts (100 Hz, from one contact sensor per obstacle geom), locations
+  entered in order, start and final pose. Positions and contacts are sampled by the base's
+  compiled loop inside the physics step (:meth:`DiffDriveBase.start_probe`) and taken in
+  here every :data:`DRAIN_PERIOD` and before any read.
 - :class:`ArmProbe`: the tool path, and for each free object of the scene its highest lift
   above its start and its final position (100 Hz); contacts of the arm with the world's own
   geoms, the table and the floor (every physics step, from ``data.contact``; the grasped
@@ -27,7 +28,6 @@ from typing import Any, Protocol
 import numpy as np
 
 from baobab.robots.turtlebot3.base import DiffDriveBase
-from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import Simulation
 
@@ -38,6 +38,8 @@ VISIT_RADIUS = 0.3
 """A location counts as visited when the robot comes within this distance (m)."""
 CLEARANCE_RANGE = 2.0
 """Obstacles farther than this (m) are not measured; no closer obstacle reads as None."""
+DRAIN_PERIOD = 1.0
+"""How often (s of sim time) a mobile probe takes in the samples of the compiled loop."""
 
 
 class MetricError(BaobabError):
@@ -183,28 +185,25 @@ class MobileProbe:
         self.visit_radius = visit_radius
         self._locations = [(name, float(x), float(y)) for name, (x, y) in locations.items()]
         self._inside = [False] * len(self._locations)
-        self.visits: list[tuple[float, str]] = []
-        """(sim time s, location name) of every entry, in order."""
+        self._visits: list[tuple[float, str]] = []
         start = base.pose()
         self.start = (start.x, start.y, start.yaw)
         self._root_qpos = sim.data.joint(base.names.root_joint).qpos
         # 50 Hz for hours: packed doubles take a third of the memory of a list of floats.
-        self.times = array("d")
-        self.xs = array("d")
-        self.ys = array("d")
-        self.path_length = 0.0
+        self._times = array("d")
+        self._xs = array("d")
+        self._ys = array("d")
+        self._path_length = 0.0
         self.min_clearance = math.inf
         self.min_clearance_at: tuple[float, float, float] | None = None
         """(t, x, y) where the clearance was smallest."""
-        groups = sim.model.geom_group
-        self.contacts = ContactSampler(
-            sim,
-            mine=[bool(g == ROBOT_GROUP) for g in groups],
-            others=[bool(g in (STATIC_GROUP, MOVABLE_GROUP)) for g in groups],
+        # Positions and contacts are sampled compiled, inside the physics step; the samples
+        # are taken in here at least every DRAIN_PERIOD.
+        self._samples = base.start_probe(
+            pose_period=pose_period, contact_period=contact_period, drain_period=DRAIN_PERIOD
         )
-        sim.every(pose_period, self._sample_pose, name="metrics pose")
         sim.every(clearance_period, self._sample_clearance, name="metrics clearance")
-        sim.every(contact_period, self.contacts.sample, name="metrics contacts")
+        sim.every(DRAIN_PERIOD, self._drain, name="metrics drain")
 
     def register(self, metrics: MetricRegistry) -> None:
         """Add this probe's metrics."""
@@ -228,12 +227,12 @@ class MobileProbe:
         )
         metrics.add(
             "contacts",
-            lambda: self.contacts.samples,
+            lambda: self._samples.contact_samples,
             description="100 Hz samples with a robot-obstacle contact",
         )
         metrics.add(
             "contact_objects",
-            lambda: sorted(self.contacts.objects),
+            lambda: sorted(self._samples.touched()),
             description="obstacles the robot touched",
             number=False,
         )
@@ -260,19 +259,49 @@ class MobileProbe:
         pose = self.base.pose()
         return _pose_dict((pose.x, pose.y, pose.yaw))
 
-    def _sample_pose(self, now: float) -> None:
-        x, y = float(self._root_qpos[0]), float(self._root_qpos[1])
-        if self.xs:
-            self.path_length += math.hypot(x - self.xs[-1], y - self.ys[-1])
-        self.times.append(now)
-        self.xs.append(x)
-        self.ys.append(y)
-        radius = self.visit_radius
-        for index, (name, lx, ly) in enumerate(self._locations):
-            inside = math.hypot(lx - x, ly - y) <= radius
-            if inside and not self._inside[index]:
-                self.visits.append((now, name))
-            self._inside[index] = inside
+    @property
+    def times(self) -> array[float]:
+        """Sim times (s) of the position samples."""
+        self._drain()
+        return self._times
+
+    @property
+    def xs(self) -> array[float]:
+        """Ground-truth x (m) of the position samples."""
+        self._drain()
+        return self._xs
+
+    @property
+    def ys(self) -> array[float]:
+        """Ground-truth y (m) of the position samples."""
+        self._drain()
+        return self._ys
+
+    @property
+    def path_length(self) -> float:
+        """Ground-truth distance driven so far (m), from the position samples."""
+        self._drain()
+        return self._path_length
+
+    @property
+    def visits(self) -> list[tuple[float, str]]:
+        """(sim time s, location name) of every entry, in order."""
+        self._drain()
+        return self._visits
+
+    def _drain(self, _now: float = 0.0) -> None:
+        for now, x, y in self._samples.drain():
+            if self._xs:
+                self._path_length += math.hypot(x - self._xs[-1], y - self._ys[-1])
+            self._times.append(now)
+            self._xs.append(x)
+            self._ys.append(y)
+            radius = self.visit_radius
+            for index, (name, lx, ly) in enumerate(self._locations):
+                inside = math.hypot(lx - x, ly - y) <= radius
+                if inside and not self._inside[index]:
+                    self._visits.append((now, name))
+                self._inside[index] = inside
 
     def _sample_clearance(self, now: float) -> None:
         clearance = self.base.min_clearance(CLEARANCE_RANGE)

@@ -33,14 +33,22 @@ _FATAL_INDICES = tuple(int(kind) for kind in _FATAL_WARNINGS)
 class _Scheduled:
     """One periodic callback: when it is next due (physics step) and how often."""
 
-    __slots__ = ("active", "callback", "name", "next_step", "period_steps")
+    __slots__ = ("active", "callback", "catch_up", "name", "next_step", "period_steps")
 
-    def __init__(self, next_step: int, period_steps: int, callback: Callback, name: str) -> None:
+    def __init__(
+        self,
+        next_step: int,
+        period_steps: int,
+        callback: Callback,
+        name: str,
+        catch_up: Callable[[int], None] | None = None,
+    ) -> None:
         self.next_step = next_step
         self.period_steps = period_steps
         self.callback = callback
         self.name = name
         self.active = True
+        self.catch_up = catch_up
 
 
 class PeriodicHandle:
@@ -62,6 +70,10 @@ class PeriodicHandle:
     def cancel(self) -> None:
         """Stop calling the callback (idempotent)."""
         self._entry.active = False
+
+
+def _no_callback(_now: float) -> None:
+    """The callback of an entry whose work runs compiled (:meth:`Simulation.add_native`)."""
 
 
 def _keep_warning(message: str) -> None:
@@ -96,6 +108,10 @@ class Simulation:
         self.rng = np.random.default_rng(seed)
         self.physics_dt = float(model.opt.timestep)
         self._warning_counts = self.data.warning.number  # a live view of MuJoCo's counters
+        self.native_gate = np.zeros(1, dtype=np.int64)
+        """1 while :meth:`step_to` steps the physics, else 0: compiled control inside
+        ``mj_step`` (:mod:`baobab.sim.native_control`) acts only then, not in a
+        :meth:`forward`."""
         self._step = 0
         self._revision = 0
         # In registration order, which is also the order of callbacks due at the same step.
@@ -156,6 +172,17 @@ class Simulation:
         self._next_due = min(self._next_due, entry.next_step)
         return PeriodicHandle(entry)
 
+    def add_native(self, catch_up: Callable[[int], None], *, name: str) -> PeriodicHandle:
+        """Register work that runs compiled inside ``mj_step`` (:mod:`~baobab.sim.native_control`).
+
+        Such work wakes no Python; ``catch_up(step)`` is called whenever Python wakes for
+        the periodic callbacks, in registration order among them, so that the work due at
+        this physics step is done before the callbacks registered after it read its results.
+        """
+        entry = _Scheduled(self._step, 0, _no_callback, name, catch_up)
+        self._schedule.append(entry)
+        return PeriodicHandle(entry)
+
     def step_for(self, duration: float) -> None:
         """Advance the sim by ``duration`` seconds, running due callbacks on the way.
 
@@ -176,7 +203,11 @@ class Simulation:
                 self._run_due_callbacks()
             batch = int(min(self._next_due, target_step)) - self._step
             if batch > 0:
-                mujoco.mj_step(model, data, batch)
+                self.native_gate[0] = 1
+                try:
+                    mujoco.mj_step(model, data, batch)
+                finally:
+                    self.native_gate[0] = 0
                 self._step += batch
                 self._revision += 1
                 self.check_state()
@@ -195,6 +226,12 @@ class Simulation:
         while index < len(schedule):
             entry = schedule[index]
             index += 1
+            if entry.catch_up is not None:
+                if entry.active:
+                    entry.catch_up(step)
+                else:
+                    canceled = True
+                continue
             if entry.active and entry.next_step <= step:
                 try:
                     entry.callback(now)

@@ -1,10 +1,11 @@
 """The differential-drive base: cmd_vel in, wheel velocity targets out, wheel odometry.
 
-:class:`DiffDriveBase` runs as a periodic sim callback (100 Hz by default). Each tick it moves
-the commanded body velocity toward the latest ``cmd_vel`` no faster than the acceleration
-limits allow, turns it into wheel angular velocities for the velocity actuators, and integrates
-odometry from the wheel encoder angles. Ground truth (``pose``, ``body_velocity``) is read from
-the physics and kept apart from the odometry, which drifts like the real thing would.
+:class:`DiffDriveBase` ticks at 100 Hz (by default), compiled, inside MuJoCo's step
+(:mod:`.base_kernel`). Each tick it moves the commanded body velocity toward the latest
+``cmd_vel`` no faster than the acceleration limits allow, turns it into wheel angular
+velocities for the velocity actuators, and integrates odometry from the wheel encoder angles.
+Ground truth (``pose``, ``body_velocity``) is read from the physics and kept apart from the
+odometry, which drifts like the real thing would.
 """
 
 from __future__ import annotations
@@ -15,9 +16,17 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from baobab.robots.turtlebot3.base_kernel import BASE_LOOP, WORD, base_loops, catch_up
 from baobab.robots.turtlebot3.clearance_bounds import ClearanceBounds
-from baobab.robots.turtlebot3.model import BURGER, DEFAULT_PREFIX, BurgerFacts, TurtleBot3Names
+from baobab.robots.turtlebot3.model import (
+    BURGER,
+    DEFAULT_PREFIX,
+    OBSTACLE_GROUPS,
+    BurgerFacts,
+    TurtleBot3Names,
+)
 from baobab.sim.builder import FLOOR_GROUP, MOVABLE_GROUP, STATIC_GROUP
+from baobab.sim.errors import SimulationError
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.world import Pose2D
 
@@ -71,11 +80,7 @@ class DiffDriveBase:
         self._root_z = float(model.joint(self.names.root_joint).qpos0[2])
         self._wheels = [data.joint(name) for name in self.names.wheel_joints]
         self._actuators = [data.actuator(name) for name in self.names.wheel_actuators]
-        self._left_ctrl, self._right_ctrl = (actuator.ctrl for actuator in self._actuators)
-        self._left_angle, self._right_angle = (wheel.qpos for wheel in self._wheels)
-        self._linear_step = facts.max_linear_accel * period  # m/s per tick
-        self._angular_step = facts.max_angular_accel * period  # rad/s per tick
-        self._encoder_tick = 2 * math.pi / facts.encoder_ticks_per_rev  # rad
+        self._wheel_angles = tuple(wheel.qpos for wheel in self._wheels)
         self._rotation_buffer = np.empty(9)
         self._root_quaternion = self._root.qpos[3:7]  # a view: w, x, y, z
         self._pose_revision = -1
@@ -98,9 +103,44 @@ class DiffDriveBase:
             np.flatnonzero(model.geom_group == MOVABLE_GROUP),
         )
         self._target = (0.0, 0.0)
-        self._commanded = (0.0, 0.0)
+        self._loop = self._start_loop(sim, model)
         self._reset_odometry()
-        self.handle: PeriodicHandle = sim.every(period, self._on_tick, name=f"{prefix}base")
+        self.handle: PeriodicHandle = sim.add_native(self._catch_up, name=f"{prefix}base")
+
+    def _start_loop(self, sim: Simulation, model: mujoco.MjModel) -> np.void:
+        """Fill this robot's compiled loop record (:mod:`.base_kernel`) and attach it."""
+        group = base_loops(sim)
+        loop = group.add(sim)
+        facts, names = self.facts, self.names
+        self._words, self._loop_index = group.words, group.size - 1
+        first = self._loop_index * (BASE_LOOP.itemsize // 8)
+        self._target_word = first + WORD["target_linear"]  # then target_angular
+        self._commanded_word = first + WORD["commanded_linear"]  # then commanded_angular
+        self._odometry_word = first + WORD["odom_x"]  # x, y, yaw, linear, angular, stamp
+        data = sim.data
+        loop["qpos_address"] = data.qpos.ctypes.data
+        loop["ctrl_address"] = data.ctrl.ctypes.data
+        loop["sensordata_address"] = data.sensordata.ctypes.data
+        loop["nq"], loop["nu"], loop["nsensordata"] = model.nq, model.nu, model.nsensordata
+        loop["root_qpos"] = model.jnt_qposadr[model.joint(names.root_joint).id]
+        left, right = (model.jnt_qposadr[model.joint(name).id] for name in names.wheel_joints)
+        loop["left_qpos"], loop["right_qpos"] = left, right
+        left, right = (model.actuator(name).id for name in names.wheel_actuators)
+        loop["left_actuator"], loop["right_actuator"] = left, right
+        loop["physics_dt"] = sim.physics_dt
+        loop["period_steps"] = sim.steps_for(self.period, what="base control period")
+        loop["next_step"] = sim.step_count
+        loop["linear_step"] = facts.max_linear_accel * self.period
+        loop["angular_step"] = facts.max_angular_accel * self.period
+        loop["half_separation"] = facts.wheel_separation / 2
+        loop["wheel_separation"] = facts.wheel_separation
+        loop["wheel_radius"] = facts.wheel_radius
+        loop["max_wheel_speed"] = facts.max_wheel_speed
+        loop["encoder_tick"] = 2 * math.pi / facts.encoder_ticks_per_rev
+        return loop
+
+    def _catch_up(self, step: int) -> None:
+        catch_up(self._words, self._loop_index, step)
 
     # -- cmd_vel ------------------------------------------------------------------------------
 
@@ -116,14 +156,20 @@ class DiffDriveBase:
         if not (math.isfinite(linear) and math.isfinite(angular)):
             raise ValueError(f"cmd_vel must be finite, got ({linear}, {angular})")
         facts = self.facts
-        self._target = (
+        self._set_target(
             clamp(linear, -facts.max_linear_speed, facts.max_linear_speed),
             clamp(angular, -facts.max_angular_speed, facts.max_angular_speed),
         )
 
     def stop(self) -> None:
         """Command zero velocity (the base decelerates within its limits)."""
-        self._target = (0.0, 0.0)
+        self._set_target(0.0, 0.0)
+
+    def _set_target(self, linear: float, angular: float) -> None:
+        self._target = (linear, angular)
+        words, at = self._words, self._target_word
+        words[at] = linear
+        words[at + 1] = angular
 
     @property
     def target(self) -> tuple[float, float]:
@@ -133,7 +179,8 @@ class DiffDriveBase:
     @property
     def commanded(self) -> tuple[float, float]:
         """The acceleration-limited velocity sent to the wheels this tick: (m/s, rad/s)."""
-        return self._commanded
+        linear, angular = self._words[self._commanded_word : self._commanded_word + 2].tolist()
+        return (linear, angular)
 
     def wheel_speeds(self, linear: float, angular: float) -> tuple[float, float]:
         """Left and right wheel angular velocities (rad/s) for a body twist (m/s, rad/s).
@@ -149,63 +196,23 @@ class DiffDriveBase:
             left, right = left / excess, right / excess
         return left / facts.wheel_radius, right / facts.wheel_radius
 
-    def _on_tick(self, time: float) -> None:
-        v_target, w_target = self._target
-        v, w = self._commanded
-        v = min(max(v_target, v - self._linear_step), v + self._linear_step)
-        w = min(max(w_target, w - self._angular_step), w + self._angular_step)
-        self._commanded = (v, w)
-        left, right = self.wheel_speeds(v, w)
-        self._left_ctrl[0] = left
-        self._right_ctrl[0] = right
-        self._integrate_odometry(time)
-
     # -- odometry -----------------------------------------------------------------------------
 
-    def _encoder_angles(self) -> tuple[float, float]:
-        tick = self._encoder_tick
-        return (
-            round(float(self._left_angle[0]) / tick) * tick,
-            round(float(self._right_angle[0]) / tick) * tick,
-        )
-
     def _reset_odometry(self) -> None:
-        self._encoders = self._encoder_angles()
-        self._odom_xy_yaw = (0.0, 0.0, 0.0)
-        self._odom_twist = (0.0, 0.0)
-        self._odom_stamp = self._sim.time
+        loop, tick = self._loop, 2 * math.pi / self.facts.encoder_ticks_per_rev
+        for side, angle in zip(("left", "right"), self._wheel_angles, strict=True):
+            loop[f"encoder_{side}"] = round(float(angle[0]) / tick) * tick
+        for field in ("odom_x", "odom_y", "odom_yaw", "odom_linear", "odom_angular"):
+            loop[field] = 0.0
+        loop["odom_stamp"] = self._sim.time
         self._odom_origin = self.pose()
-
-    def _integrate_odometry(self, time: float) -> None:
-        facts = self.facts
-        left, right = self._encoder_angles()
-        d_left = (left - self._encoders[0]) * facts.wheel_radius
-        d_right = (right - self._encoders[1]) * facts.wheel_radius
-        self._encoders = (left, right)
-        distance = (d_left + d_right) / 2
-        turn = (d_right - d_left) / facts.wheel_separation
-        x, y, yaw = self._odom_xy_yaw
-        heading = yaw + turn / 2  # second-order (midpoint) integration over the tick
-        self._odom_xy_yaw = (
-            x + distance * math.cos(heading),
-            y + distance * math.sin(heading),
-            math.remainder(yaw + turn, 2 * math.pi),
-        )
-        elapsed = time - self._odom_stamp
-        if elapsed > 0:
-            self._odom_twist = (distance / elapsed, turn / elapsed)
-        self._odom_stamp = time
 
     @property
     def odometry(self) -> Odometry:
         """The latest wheel odometry (odom frame), integrated from the encoder angles."""
-        x, y, yaw = self._odom_xy_yaw
-        return Odometry(
-            stamp=self._odom_stamp,
-            pose=Pose2D(x=x, y=y, yaw=yaw),
-            linear=self._odom_twist[0],
-            angular=self._odom_twist[1],
-        )
+        at = self._odometry_word
+        x, y, yaw, linear, angular, stamp = self._words[at : at + 6].tolist()
+        return Odometry(stamp=stamp, pose=Pose2D(x=x, y=y, yaw=yaw), linear=linear, angular=angular)
 
     @property
     def odom_origin(self) -> Pose2D:
@@ -254,8 +261,8 @@ class DiffDriveBase:
             wheel.qvel[:] = 0.0
         for actuator in self._actuators:
             actuator.ctrl[0] = 0.0
-        self._target = (0.0, 0.0)
-        self._commanded = (0.0, 0.0)
+        self._set_target(0.0, 0.0)
+        self._loop["commanded_linear"] = self._loop["commanded_angular"] = 0.0
         self._sim.forward()
         self._reset_odometry()
 
@@ -295,3 +302,88 @@ class DiffDriveBase:
             )
             nearest = min(nearest, distance)
         return nearest if nearest < max_distance else math.inf
+
+    # -- the metrics probe --------------------------------------------------------------------
+
+    def start_probe(
+        self, *, pose_period: float, contact_period: float, drain_period: float
+    ) -> BaseProbe:
+        """Sample, compiled inside the physics step, the ground-truth position every
+        ``pose_period`` and the robot's obstacle contacts every ``contact_period`` (s).
+
+        Positions collect in a buffer that holds ``drain_period`` (s) of samples: call
+        :meth:`BaseProbe.drain` at least that often. Sampling starts now.
+
+        Raises:
+            SimulationError: if a period is not a positive multiple of the physics step, or
+                the model lacks the robot's contact sensors (:func:`.model.attach_turtlebot3`).
+        """
+        sim, model, loop = self._sim, self._sim.model, self._loop
+        obstacles = [
+            model.geom(index).name
+            for index in range(model.ngeom)
+            if model.geom_group[index] in OBSTACLE_GROUPS
+        ]
+        addresses = []
+        for name in obstacles:
+            try:
+                addresses.append(int(model.sensor(self.names.touch_sensor(name)).adr[0]))
+            except KeyError:
+                raise SimulationError(f"the model has no contact sensor for '{name}'") from None
+        first = addresses[0] if addresses else 0
+        if addresses != list(range(first, first + len(addresses))):
+            raise SimulationError("the robot's contact sensors are not consecutive")
+        contacts = np.zeros((2, len(obstacles)))
+        contacts[0] = sim.data.sensordata[first : first + len(obstacles)]
+        pose_steps = sim.steps_for(pose_period, what="pose sampling period")
+        contact_steps = sim.steps_for(contact_period, what="contact sampling period")
+        if pose_steps <= 0 or contact_steps <= 0:
+            raise SimulationError("sampling periods must be positive")
+        capacity = 2 * (sim.steps_for(drain_period, what="drain period") // pose_steps + 2)
+        poses = np.zeros((capacity, 3))
+        loop["contact_sensor"], loop["contact_sensors"] = first, len(obstacles)
+        loop["contact_address"] = contacts.ctypes.data
+        loop["contact_samples"] = 0
+        loop["pose_capacity"], loop["pose_address"] = capacity, poses.ctypes.data
+        loop["pose_count"] = loop["pose_overflow"] = 0
+        loop["pose_next_step"] = loop["contact_next_step"] = sim.step_count
+        loop["pose_period_steps"], loop["contact_period_steps"] = pose_steps, contact_steps
+        self._probe = BaseProbe(loop, obstacles, contacts, poses)
+        return self._probe
+
+
+class BaseProbe:
+    """What a base's compiled loop samples for the metrics (:meth:`DiffDriveBase.start_probe`)."""
+
+    def __init__(
+        self, loop: np.void, obstacles: list[str], contacts: np.ndarray, poses: np.ndarray
+    ) -> None:
+        self._loop = loop
+        self._obstacles = obstacles
+        self._contacts = contacts  # [previous sensor values, touched flags] per obstacle
+        self._poses = poses
+
+    @property
+    def contact_samples(self) -> int:
+        """Samples in which the robot touched an obstacle."""
+        return int(self._loop["contact_samples"])
+
+    def touched(self) -> list[str]:
+        """Names of the obstacle geoms the robot touched so far, in model order."""
+        return [name for name, hit in zip(self._obstacles, self._contacts[1], strict=True) if hit]
+
+    def drain(self) -> list[tuple[float, float, float]]:
+        """The position samples taken since the last drain: (t s, x m, y m), oldest first.
+
+        Raises:
+            SimulationError: if samples were lost because the buffer was not drained in time.
+        """
+        loop = self._loop
+        if loop["pose_overflow"]:
+            raise SimulationError("the base's position samples overflowed: drain them in time")
+        count = int(loop["pose_count"])
+        rows: list[tuple[float, float, float]] = [
+            (t, x, y) for t, x, y in self._poses[:count].tolist()
+        ]
+        loop["pose_count"] = 0
+        return rows

@@ -17,10 +17,14 @@ from dataclasses import dataclass
 
 import mujoco
 
-from baobab.sim.builder import ROBOT_GROUP
+from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
 from baobab.sim.world import Pose2D
 
 DEFAULT_PREFIX = "tb3/"
+OBSTACLE_GROUPS = (STATIC_GROUP, MOVABLE_GROUP)
+"""Geom groups of the world's obstacles: a contact with one of them is a collision."""
+_CONTACT_FOUND = 1
+"""A contact sensor's ``data="found"`` bit: the number of matching contacts."""
 
 
 @dataclass(frozen=True)
@@ -125,6 +129,10 @@ class TurtleBot3Names:
     def footprint_geom(self) -> str:
         """The non-colliding footprint cylinder used for clearance queries."""
         return f"{self.prefix}footprint"
+
+    def touch_sensor(self, obstacle: str) -> str:
+        """The contact sensor that counts the robot's contacts with the geom ``obstacle``."""
+        return f"{self.prefix}touch/{obstacle}"
 
 
 def _wxyz_about_z(yaw: float) -> list[float]:
@@ -333,5 +341,20 @@ def attach_turtlebot3(
     """
     frame = spec.worldbody.add_frame(pos=[pose.x, pose.y, 0.0], quat=_wxyz_about_z(pose.yaw))
     robot = turtlebot3_spec(facts)
+    obstacles = [geom.name for geom in spec.geoms if geom.group in OBSTACLE_GROUPS]
     frame.attach_body(robot.body("base_link"), prefix, "")
-    return TurtleBot3Names(prefix)
+    names = TurtleBot3Names(prefix)
+    for obstacle in obstacles:
+        spec.add_sensor(
+            name=names.touch_sensor(obstacle),
+            type=mujoco.mjtSensor.mjSENS_CONTACT,
+            objtype=mujoco.mjtObj.mjOBJ_GEOM,
+            objname=obstacle,
+            reftype=mujoco.mjtObj.mjOBJ_XBODY,
+            refname=names.body,
+            intprm=[_CONTACT_FOUND, 0, 1],
+        )
+    from baobab.sim.native_control import USERDATA_SLOTS  # numba: only when building a robot
+
+    spec.nuserdata = USERDATA_SLOTS
+    return names

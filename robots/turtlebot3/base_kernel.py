@@ -1,0 +1,287 @@
+"""The TurtleBot3 base's 100 Hz step, compiled, inside MuJoCo's own step.
+
+:class:`~baobab.robots.turtlebot3.base.DiffDriveBase` keeps one :data:`BASE_LOOP` record per
+robot; the records of one simulation form one array, run by :func:`base_kernel` inside every
+``mj_step`` (:mod:`baobab.sim.native_control`). At each of its control ticks a record's step
+ramps the commanded body velocity toward ``cmd_vel`` within the acceleration limits, writes
+the two wheel velocity targets and integrates wheel odometry from the encoder angles. An
+optional probe (the mission metrics) samples, at its own periods, whether the robot touches
+an obstacle (from one MuJoCo contact sensor per obstacle geom) and the ground-truth position.
+
+Timing is the Python scheduler's exactly: work due at physics step k happens either inside
+the step taken from k, or earlier, when Python wakes at k and calls :func:`catch_up` in the
+base's place among the periodic callbacks (so callbacks registered after the base see this
+tick's odometry, and their commands take effect at the next tick, as with a Python callback).
+The kernel acts only while the simulation's gate is open (during ``Simulation.step_to``), so
+a ``mj_forward`` after editing the state by hand runs nothing.
+
+Contacts: a position-stage sensor is already recomputed for the new state when the kernel
+runs inside a step, while a Python callback at step k reads the contacts found for the state
+before. The kernel keeps the last values it saw (``previous`` in the probe array) and samples
+those, which is what a Python callback would have read.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import weakref
+from typing import Any, TypeAlias
+
+import numba
+import numpy as np
+
+from baobab.sim import native_control
+from baobab.sim.errors import SimulationError
+from baobab.sim.native_control import STATE_TIME, mj_get_state, pointer, remainder
+from baobab.sim.simulation import Simulation
+
+BASE_LOOP = np.dtype(
+    [
+        ("group_size", np.int64),  # records in this simulation's array (read from record 0)
+        # Where the robot lives in MjData (addresses valid while the MjData lives).
+        ("qpos_address", np.int64),
+        ("ctrl_address", np.int64),
+        ("sensordata_address", np.int64),
+        ("gate_address", np.int64),
+        ("nq", np.int64),
+        ("nu", np.int64),
+        ("nsensordata", np.int64),
+        ("root_qpos", np.int64),  # qpos address of the free joint (x, y, z, w, x, y, z)
+        ("left_qpos", np.int64),
+        ("right_qpos", np.int64),
+        ("left_actuator", np.int64),
+        ("right_actuator", np.int64),
+        ("physics_dt", np.float64),  # s
+        # The controller: period, next due physics step, figures.
+        ("period_steps", np.int64),
+        ("next_step", np.int64),
+        ("linear_step", np.float64),  # m/s per tick
+        ("angular_step", np.float64),  # rad/s per tick
+        ("half_separation", np.float64),  # m
+        ("wheel_separation", np.float64),  # m
+        ("wheel_radius", np.float64),  # m
+        ("max_wheel_speed", np.float64),  # m/s at the rim
+        ("encoder_tick", np.float64),  # rad
+        ("target_linear", np.float64),  # cmd_vel after clipping, m/s
+        ("target_angular", np.float64),  # rad/s
+        ("commanded_linear", np.float64),  # the ramped twist sent to the wheels, m/s
+        ("commanded_angular", np.float64),  # rad/s
+        # Wheel odometry.
+        ("encoder_left", np.float64),  # rad, quantised
+        ("encoder_right", np.float64),
+        ("odom_x", np.float64),  # m, odom frame
+        ("odom_y", np.float64),
+        ("odom_yaw", np.float64),  # rad
+        ("odom_linear", np.float64),  # m/s over the last tick
+        ("odom_angular", np.float64),  # rad/s
+        ("odom_stamp", np.float64),  # s
+        # The probe (mission metrics); periods of 0 switch its parts off.
+        ("contact_period_steps", np.int64),
+        ("contact_next_step", np.int64),
+        ("contact_samples", np.int64),  # samples with a robot-obstacle contact
+        ("contact_sensor", np.int64),  # sensordata address of the first obstacle's sensor
+        ("contact_sensors", np.int64),  # one per obstacle geom
+        ("contact_address", np.int64),  # float64[2, contact_sensors]: previous, touched
+        ("pose_period_steps", np.int64),
+        ("pose_next_step", np.int64),
+        ("pose_count", np.int64),  # samples in the buffer, drained by Python
+        ("pose_capacity", np.int64),
+        ("pose_address", np.int64),  # float64[pose_capacity, 3]: t (s), x, y (m)
+        ("pose_overflow", np.int64),
+    ]
+)
+"""One robot's base loop: where it lives in MjData, its state and its probe (all 8-byte)."""
+
+_WORDS = BASE_LOOP.itemsize // 8
+WORD = {name: BASE_LOOP.fields[name][1] // 8 for name in BASE_LOOP.names}
+"""Each field's index in a record viewed as 8-byte words (Python reads and writes them so)."""
+
+Loop: TypeAlias = Any
+"""One :data:`BASE_LOOP` record in compiled code (numba's record type; fields by name)."""
+
+
+@numba.njit(cache=True, nogil=True)
+def _control_tick(loop: Loop, qpos: np.ndarray, ctrl: np.ndarray, time: float) -> None:
+    """Ramp toward cmd_vel, command the wheels, integrate odometry (the Python base's tick)."""
+    # min/max spelled as CPython's builtins pick, so ties give the same float (and zero sign).
+    linear, angular = loop.commanded_linear, loop.commanded_angular
+    low = linear - loop.linear_step
+    linear = low if low > loop.target_linear else loop.target_linear
+    high = loop.commanded_linear + loop.linear_step
+    linear = high if high < linear else linear
+    low = angular - loop.angular_step
+    angular = low if low > loop.target_angular else loop.target_angular
+    high = loop.commanded_angular + loop.angular_step
+    angular = high if high < angular else angular
+    loop.commanded_linear, loop.commanded_angular = linear, angular
+    half = loop.half_separation
+    left, right = linear - angular * half, linear + angular * half
+    widest = abs(right) if abs(right) > abs(left) else abs(left)
+    excess = widest / loop.max_wheel_speed
+    if excess > 1.0:
+        left, right = left / excess, right / excess
+    ctrl[loop.left_actuator] = left / loop.wheel_radius
+    ctrl[loop.right_actuator] = right / loop.wheel_radius
+
+    tick = loop.encoder_tick
+    left_angle = np.rint(qpos[loop.left_qpos] / tick) * tick
+    right_angle = np.rint(qpos[loop.right_qpos] / tick) * tick
+    d_left = (left_angle - loop.encoder_left) * loop.wheel_radius
+    d_right = (right_angle - loop.encoder_right) * loop.wheel_radius
+    loop.encoder_left, loop.encoder_right = left_angle, right_angle
+    distance = (d_left + d_right) / 2
+    turn = (d_right - d_left) / loop.wheel_separation
+    yaw = loop.odom_yaw
+    heading = yaw + turn / 2  # second-order (midpoint) integration over the tick
+    loop.odom_x = loop.odom_x + distance * math.cos(heading)
+    loop.odom_y = loop.odom_y + distance * math.sin(heading)
+    loop.odom_yaw = remainder(yaw + turn, 2 * math.pi)
+    elapsed = time - loop.odom_stamp
+    if elapsed > 0:
+        loop.odom_linear = distance / elapsed
+        loop.odom_angular = turn / elapsed
+    loop.odom_stamp = time
+
+
+@numba.njit(cache=True, nogil=True)
+def _sample_contacts(loop: Loop) -> None:
+    count = loop.contact_sensors
+    contacts = numba.carray(pointer(loop.contact_address), (2, count), np.float64)
+    touched = False
+    for index in range(count):
+        if contacts[0, index] > 0.0:
+            contacts[1, index] = 1.0
+            touched = True
+    if touched:
+        loop.contact_samples += 1
+
+
+@numba.njit(cache=True, nogil=True)
+def _sample_pose(loop: Loop, qpos: np.ndarray, time: float) -> None:
+    if loop.pose_count >= loop.pose_capacity:
+        loop.pose_overflow = 1
+        return
+    poses = numba.carray(pointer(loop.pose_address), (loop.pose_capacity, 3), np.float64)
+    row = loop.pose_count
+    poses[row, 0] = time
+    poses[row, 1] = qpos[loop.root_qpos]
+    poses[row, 2] = qpos[loop.root_qpos + 1]
+    loop.pose_count = row + 1
+
+
+@numba.njit(cache=True, nogil=True)
+def _next_after(next_step: int, period: int, step: int) -> int:
+    next_step += period
+    while next_step <= step:
+        next_step += period
+    return next_step
+
+
+@numba.njit(cache=True, nogil=True)
+def _run_due(loop: Loop, step: int) -> None:
+    """Do the work due at physics ``step`` that is not done yet."""
+    qpos = numba.carray(pointer(loop.qpos_address), (loop.nq,), np.float64)
+    time = step * loop.physics_dt
+    if loop.period_steps > 0 and loop.next_step <= step:
+        ctrl = numba.carray(pointer(loop.ctrl_address), (loop.nu,), np.float64)
+        _control_tick(loop, qpos, ctrl, time)
+        loop.next_step = _next_after(loop.next_step, loop.period_steps, step)
+    if loop.contact_period_steps > 0 and loop.contact_next_step <= step:
+        _sample_contacts(loop)
+        loop.contact_next_step = _next_after(
+            loop.contact_next_step, loop.contact_period_steps, step
+        )
+    if loop.pose_period_steps > 0 and loop.pose_next_step <= step:
+        _sample_pose(loop, qpos, time)
+        loop.pose_next_step = _next_after(loop.pose_next_step, loop.pose_period_steps, step)
+
+
+@numba.njit(cache=True, nogil=True)
+def _remember_contacts(loop: Loop) -> None:
+    """Keep the contact sensors' current values as the ones the next sample reads."""
+    count = loop.contact_sensors
+    if loop.contact_period_steps <= 0 or count == 0:
+        return
+    sensordata = numba.carray(pointer(loop.sensordata_address), (loop.nsensordata,), np.float64)
+    contacts = numba.carray(pointer(loop.contact_address), (2, count), np.float64)
+    first = loop.contact_sensor
+    for index in range(count):
+        contacts[0, index] = sensordata[first + index]
+
+
+@numba.njit(cache=True, nogil=True)
+def catch_up(words: np.ndarray, index: int, step: int) -> None:
+    """Python's turn at physics ``step``: do robot ``index``'s work due now, if not done.
+
+    ``words`` is the records' array viewed as float64 (numba takes a plain array from
+    Python much faster than a structured one).
+    """
+    _run_due(words.view(BASE_LOOP)[index], step)
+
+
+def base_kernel(model: int, data: int, address: int) -> None:  # pragma: no cover - compiled
+    """The kernel (``mjcb_control``) of every base of one simulation (module docstring)."""
+    first = numba.carray(pointer(address), (_WORDS,), np.float64).view(BASE_LOOP)
+    size = first[0].group_size
+    loops = numba.carray(pointer(address), (size * _WORDS,), np.float64).view(BASE_LOOP)
+    gate = numba.carray(pointer(loops[0].gate_address), (1,), np.int64)
+    if gate[0] != 0:
+        time = np.empty(1)
+        mj_get_state(pointer(model), pointer(data), pointer(time.ctypes.data), STATE_TIME)
+        step = int(np.rint(time[0] / loops[0].physics_dt))
+        for index in range(size):
+            _run_due(loops[index], step)
+    for index in range(size):
+        _remember_contacts(loops[index])
+
+
+@functools.cache
+def kernel_address() -> int:
+    """Compile (or load from numba's cache) :func:`base_kernel` once per process."""
+    return native_control.compile_kernel(base_kernel)
+
+
+MAX_ROBOTS = 8
+"""Bases one simulation can hold (the records are preallocated so that none moves)."""
+
+
+class BaseLoops:
+    """The :data:`BASE_LOOP` records of one simulation, run by :func:`base_kernel`.
+
+    It holds no reference to its simulation, which keys it weakly (:func:`base_loops`).
+    """
+
+    def __init__(self) -> None:
+        self.loops = np.zeros(MAX_ROBOTS, dtype=BASE_LOOP)
+        self.words = self.loops.view(np.float64)
+        """The records as float64 words: record ``i``'s field ``f`` is
+        ``words[i * len(BASE_LOOP) + WORD[f]]`` (float fields only)."""
+        self.size = 0
+
+    def add(self, sim: Simulation) -> np.void:
+        """A new, zeroed record (a view into :attr:`loops`), attached to ``sim``.
+
+        Raises:
+            SimulationError: if the simulation holds :data:`MAX_ROBOTS` bases already, or its
+                model does not reserve the userdata of compiled control.
+        """
+        if self.size == MAX_ROBOTS:
+            raise SimulationError(f"a simulation holds at most {MAX_ROBOTS} TurtleBot3 bases")
+        loop = self.loops[self.size]
+        self.size += 1
+        self.loops["group_size"] = self.size
+        loop["gate_address"] = sim.native_gate.ctypes.data
+        native_control.attach(sim.data, sim.model, kernel_address(), self.loops)
+        return loop
+
+
+_loops: weakref.WeakKeyDictionary[Simulation, BaseLoops] = weakref.WeakKeyDictionary()
+
+
+def base_loops(sim: Simulation) -> BaseLoops:
+    """The base records of ``sim`` (created on first use; they live as long as ``sim``)."""
+    loops = _loops.get(sim)
+    if loops is None:
+        loops = _loops[sim] = BaseLoops()
+    return loops

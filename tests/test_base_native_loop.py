@@ -1,0 +1,176 @@
+"""The base's compiled loop inside the physics step, against Python references, on real physics.
+
+The base ticks inside ``mj_step`` unless Python wakes at a tick's step, in which case the tick
+runs then (``catch_up``). Both paths must give the same physics, the same commanded ramp and
+odometry as the Python base they replaced, and the same contact and position samples as
+Python callbacks at those periods.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from baobab.missions.metrics import ContactSampler
+from baobab.robots.turtlebot3 import BURGER, TurtleBot3, build_turtlebot3_sim
+from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
+from baobab.sim.world import Box, Floor, Pose2D, World
+
+
+def _commands(seed: int) -> list[tuple[float, float, float]]:
+    """(time s, linear m/s, angular rad/s) commands, at times that are no tick of the base."""
+    rng = np.random.default_rng(seed)
+    times = np.sort(rng.choice(np.arange(1, 400), size=40, replace=False)) * 0.005
+    return [(float(t), float(rng.uniform(-0.3, 0.3)), float(rng.uniform(-3.0, 3.0))) for t in times]
+
+
+def _drive(robot: TurtleBot3, commands: list[tuple[float, float, float]]) -> None:
+    """Give each command from a callback at its time (it runs after the base's tick)."""
+    pending = list(commands)
+
+    def commander(now: float) -> None:
+        while pending and pending[0][0] <= now + 1e-9:
+            _, linear, angular = pending.pop(0)
+            robot.base.command(linear, angular)
+
+    robot.sim.every(0.005, commander, name="commander")
+
+
+class _ReferenceBase:
+    """The Python base the compiled loop replaced: the ramp, the wheel targets, odometry."""
+
+    def __init__(self, robot: TurtleBot3) -> None:
+        self.base = robot.base
+        self.facts = BURGER
+        self.commanded = (0.0, 0.0)
+        data = robot.sim.data
+        self.wheels = [data.joint(name).qpos for name in robot.names.wheel_joints]
+        self.ctrl = [data.actuator(name).ctrl for name in robot.names.wheel_actuators]
+        self.tick = 2 * math.pi / self.facts.encoder_ticks_per_rev
+        self.encoders = self._encoders()
+        self.odom = (0.0, 0.0, 0.0)
+        self.stamp = robot.sim.time
+        self.checked = 0
+
+    def _encoders(self) -> tuple[float, float]:
+        return tuple(round(float(w[0]) / self.tick) * self.tick for w in self.wheels)  # type: ignore[return-value]
+
+    def check(self, now: float) -> None:
+        """Called right after the base's tick: redo it in Python and compare."""
+        facts, period = self.facts, 0.01
+        (v_target, w_target), (v, w) = self.base.target, self.commanded
+        v = min(
+            max(v_target, v - facts.max_linear_accel * period), v + facts.max_linear_accel * period
+        )
+        w = min(
+            max(w_target, w - facts.max_angular_accel * period),
+            w + facts.max_angular_accel * period,
+        )
+        self.commanded = (v, w)
+        left, right = self.base.wheel_speeds(v, w)
+        assert self.base.commanded == (v, w)
+        assert (self.ctrl[0][0], self.ctrl[1][0]) == (left, right)
+        encoders = self._encoders()
+        d_left = (encoders[0] - self.encoders[0]) * facts.wheel_radius
+        d_right = (encoders[1] - self.encoders[1]) * facts.wheel_radius
+        self.encoders = encoders
+        distance, turn = (d_left + d_right) / 2, (d_right - d_left) / facts.wheel_separation
+        x, y, yaw = self.odom
+        heading = yaw + turn / 2
+        self.odom = (
+            x + distance * math.cos(heading),
+            y + distance * math.sin(heading),
+            math.remainder(yaw + turn, 2 * math.pi),
+        )
+        odometry = self.base.odometry
+        assert (odometry.pose.x, odometry.pose.y, odometry.pose.yaw) == self.odom
+        assert odometry.stamp == now
+        self.checked += 1
+
+
+def test_compiled_tick_matches_the_python_base_and_both_paths_agree() -> None:
+    commands = _commands(seed=3)
+    _, inside = build_turtlebot3_sim("walls")  # every tick inside mj_step
+    _drive(inside, commands)
+    _, woken = build_turtlebot3_sim("walls")  # Python wakes at every tick: catch_up
+    reference = _ReferenceBase(woken)
+    woken.sim.every(0.01, reference.check, name="reference")
+    _drive(woken, commands)
+    inside.sim.step_for(2.5)
+    woken.sim.step_for(2.5)
+    assert reference.checked == 250
+    assert np.array_equal(inside.sim.data.qpos, woken.sim.data.qpos)
+    assert np.array_equal(inside.sim.data.ctrl, woken.sim.data.ctrl)
+    assert inside.base.odometry == woken.base.odometry
+    assert inside.base.odometry.pose.x != 0.0
+
+
+def test_a_forward_between_steps_runs_no_tick() -> None:
+    sim, robot = build_turtlebot3_sim("walls")
+    sim.step_for(0.1)
+    robot.base.command(0.2, 0.0)
+    sim.forward()  # at a tick's step, before Python's turn: the tick waits for the step
+    assert robot.base.commanded == (0.0, 0.0)
+    assert not sim.data.ctrl.any()
+    sim.step_for(0.005)
+    assert robot.base.commanded == pytest.approx((0.025, 0.0))
+
+
+def _arena() -> World:
+    return World(
+        name="arena",
+        floor=Floor(size=(6.0, 6.0)),
+        boxes=[Box(name="wall", center=(0.8, 0.0), size=(0.1, 2.0))],
+        spawns={"default": Pose2D(x=0.0, y=0.0)},
+    )
+
+
+def test_contact_and_position_samples_match_python_callbacks() -> None:
+    sim, robot = build_turtlebot3_sim(_arena())
+    samples = robot.base.start_probe(pose_period=0.02, contact_period=0.01, drain_period=1.0)
+    groups = sim.model.geom_group
+    python_contacts = ContactSampler(
+        sim,
+        mine=[bool(g == ROBOT_GROUP) for g in groups],
+        others=[bool(g in (STATIC_GROUP, MOVABLE_GROUP)) for g in groups],
+    )
+    sim.every(0.01, python_contacts.sample, name="python contacts")
+    root = sim.data.joint("tb3/root").qpos
+    python_poses: list[tuple[float, float, float]] = []
+    sim.every(0.02, lambda now: python_poses.append((now, root[0], root[1])), name="poses")
+    drained: list[tuple[float, float, float]] = []
+    sim.every(1.0, lambda _now: drained.extend(samples.drain()), name="drain")
+    robot.base.command(0.2, 0.05)  # into the wall
+    sim.step_for(8.0)
+    drained.extend(samples.drain())
+    assert python_contacts.samples > 50
+    assert samples.contact_samples == python_contacts.samples
+    assert samples.touched() == sorted(python_contacts.objects) == ["wall"]
+    assert drained == python_poses
+
+
+def test_samples_inside_the_step_equal_samples_when_python_wakes() -> None:
+    runs = []
+    for wake in (False, True):
+        sim, robot = build_turtlebot3_sim(_arena())
+        samples = robot.base.start_probe(pose_period=0.02, contact_period=0.01, drain_period=1.0)
+        if wake:
+            sim.every(0.005, lambda _now: None, name="wake every step")
+        robot.base.command(0.2, -0.05)
+        poses = []
+        for _ in range(7):
+            sim.step_for(1.0)
+            poses.extend(samples.drain())
+        runs.append((poses, samples.contact_samples, samples.touched()))
+    assert runs[0] == runs[1]
+    assert runs[0][1] > 0
+
+
+def test_undrained_samples_fail_loudly() -> None:
+    sim, robot = build_turtlebot3_sim(_arena())
+    samples = robot.base.start_probe(pose_period=0.02, contact_period=0.01, drain_period=0.1)
+    sim.step_for(2.0)
+    with pytest.raises(Exception, match="overflowed"):
+        samples.drain()
