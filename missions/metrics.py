@@ -290,18 +290,35 @@ class MobileProbe:
         return self._visits
 
     def _drain(self, _now: float = 0.0) -> None:
-        for now, x, y in self._samples.drain():
+        rows = self._samples.drain()
+        if not rows:
+            return
+        for now, x, y in rows:
             if self._xs:
                 self._path_length += math.hypot(x - self._xs[-1], y - self._ys[-1])
             self._times.append(now)
             self._xs.append(x)
             self._ys.append(y)
-            radius = self.visit_radius
-            for index, (name, lx, ly) in enumerate(self._locations):
+        radius = self.visit_radius
+        entered: list[tuple[float, str]] = []
+        _, xs, ys = zip(*rows, strict=True)
+        low_x, high_x, low_y, high_y = min(xs), max(xs), min(ys), max(ys)
+        for index, (name, lx, ly) in enumerate(self._locations):
+            # Float subtraction is monotonic and hypot(a, b) >= |a|: a location farther than
+            # the radius along x or y from the batch's box is outside for every sample.
+            if lx - high_x > radius or low_x - lx > radius or ly - high_y > radius:
+                self._inside[index] = False
+                continue
+            if low_y - ly > radius:
+                self._inside[index] = False
+                continue
+            for now, x, y in rows:
                 inside = math.hypot(lx - x, ly - y) <= radius
                 if inside and not self._inside[index]:
-                    self._visits.append((now, name))
+                    entered.append((now, name))
                 self._inside[index] = inside
+        entered.sort(key=lambda visit: visit[0])  # stable: same time, location order
+        self._visits.extend(entered)
 
     def _sample_clearance(self, now: float) -> None:
         clearance = self.base.min_clearance(CLEARANCE_RANGE)

@@ -16,7 +16,7 @@ import enum
 import hashlib
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -61,6 +61,34 @@ def _json_float(number: float, decimals: int | None) -> float | str:
     return 0.0 if rounded == 0 else rounded
 
 
+def _flat_line(record: dict[str, Any]) -> str | None:
+    """The JSON line of ``record`` when its values are all plain floats, ints, strings, bools
+    or None (most records: poses, statuses), written directly; else None. The text is what
+    ``json.dumps(jsonable(record), separators=(",", ":"), ensure_ascii=False)`` writes."""
+    parts = []
+    for key, value in record.items():
+        kind = type(value)
+        if kind is float:
+            number = _json_float(value, DECIMALS)
+            text = float.__repr__(number) if type(number) is float else f'"{number}"'
+        elif kind is str:
+            text = _encode_string(value)
+        elif kind is int:
+            text = int.__repr__(value)
+        elif kind is bool:
+            text = "true" if value else "false"
+        elif value is None:
+            text = "null"
+        else:
+            return None
+        parts.append(f"{_encode_string(key)}:{text}")
+    return "{" + ",".join(parts) + "}"
+
+
+_encode_string: Callable[[str], str] = json.encoder.encode_basestring
+"""JSON's own string encoder for ``ensure_ascii=False`` (quotes and escapes)."""
+
+
 class Trace:
     """Collects the trace records in order and hashes them as they come."""
 
@@ -70,8 +98,10 @@ class Trace:
 
     def add(self, time: float, kind: str, **fields: Any) -> None:
         """Append the record ``{"t": time, "type": kind, **fields}``."""
-        record = jsonable({"t": time, "type": kind, **fields})
-        line = json.dumps(record, separators=(",", ":"), ensure_ascii=False)
+        record = {"t": time, "type": kind, **fields}
+        line = _flat_line(record)
+        if line is None:
+            line = json.dumps(jsonable(record), separators=(",", ":"), ensure_ascii=False)
         self.lines.append(line)
         self._hash.update(line.encode("utf-8"))
         self._hash.update(b"\n")

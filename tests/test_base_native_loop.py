@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from baobab.missions.metrics import ContactSampler
+from baobab.missions.metrics import ContactSampler, MobileProbe
 from baobab.robots.turtlebot3 import BURGER, TurtleBot3, build_turtlebot3_sim
 from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
 from baobab.sim.world import Box, Floor, Pose2D, World
@@ -174,3 +174,25 @@ def test_undrained_samples_fail_loudly() -> None:
     sim.step_for(2.0)
     with pytest.raises(Exception, match="overflowed"):
         samples.drain()
+
+
+def test_probe_visits_equal_a_sample_by_sample_check() -> None:
+    sim, robot = build_turtlebot3_sim(_arena())
+    rng = np.random.default_rng(5)
+    on_circle = [(0.3 * math.sin(a), 0.3 - 0.3 * math.cos(a)) for a in np.linspace(0, 6, 6)]
+    elsewhere = rng.uniform(-1.0, 1.0, (6, 2)).tolist()
+    locations = {f"p{i}": (x, y) for i, (x, y) in enumerate(on_circle + elsewhere)}
+    probe = MobileProbe(sim, robot.base, locations, visit_radius=0.3)
+    robot.base.command(0.15, 0.5)  # a circle of 0.3 m radius through some of the points
+    sim.step_for(12.0)
+    inside = dict.fromkeys(locations, False)
+    expected = []
+    for t, x, y in zip(probe.times, probe.xs, probe.ys, strict=True):
+        for name, (lx, ly) in locations.items():
+            now_inside = math.hypot(lx - x, ly - y) <= 0.3
+            if now_inside and not inside[name]:
+                expected.append((t, name))
+            inside[name] = now_inside
+    assert len(probe.times) == 600
+    assert len(expected) >= 3
+    assert probe.visits == expected

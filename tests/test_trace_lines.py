@@ -1,0 +1,52 @@
+"""Trace lines: the direct writer of flat records gives exactly ``json.dumps``'s text."""
+
+from __future__ import annotations
+
+import enum
+import json
+import math
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from baobab.missions.trace import Trace, jsonable
+
+_values = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.floats(min_value=-1e-5, max_value=1e-5),
+    st.integers(),
+    st.text(),
+    st.booleans(),
+    st.none(),
+)
+
+
+def _reference(record: dict[str, object]) -> str:
+    return json.dumps(jsonable(record), separators=(",", ":"), ensure_ascii=False)
+
+
+@settings(max_examples=500, deadline=None)
+@given(
+    time=st.floats(min_value=0.0, max_value=1e6),
+    kind=st.text(),
+    fields=st.dictionaries(st.text(), _values, max_size=6),
+)
+def test_flat_records_are_written_as_json_dumps_writes_them(
+    time: float, kind: str, fields: dict[str, object]
+) -> None:
+    fields.pop("t", None)
+    fields.pop("type", None)
+    trace = Trace()
+    trace.add(time, kind, **fields)
+    assert trace.lines == [_reference({"t": time, "type": kind, **fields})]
+
+
+class _Mode(enum.Enum):
+    FAST = "fast"
+
+
+def test_records_with_other_values_still_go_through_jsonable() -> None:
+    trace = Trace()
+    trace.add(1.0, "event", mode=_Mode.FAST, xy=np.array([0.1234567, math.inf]), n=np.int64(3))
+    assert trace.lines == ['{"t":1.0,"type":"event","mode":"fast","xy":[0.123457,"inf"],"n":3}']
