@@ -3,10 +3,11 @@
 The kernels do the same float operations, in the same order, as the straightforward
 formulas they replace, so their results are bit for bit those formulas' results:
 
-- :func:`trace_scan` finds the cell of each ray sample with precomputed cell thresholds
-  (:func:`cell_thresholds`) instead of a division per sample: ``floor(u / resolution) >= n``
-  holds exactly when ``u >= thresholds[n]``, so walking a sample's index to its neighbour is
-  the same as dividing.
+- :func:`trace_scan` tests whether a ray sample lies in a cell with precomputed cell
+  thresholds (:func:`cell_thresholds`): ``floor(u / resolution) == n`` holds exactly when
+  ``thresholds[n] <= u < thresholds[n + 1]``. Clearing only changes cells that are not free,
+  so only those (a few dozen, near walls and obstacles) are tested, each against the few
+  beams whose direction meets it, instead of walking every sample of every beam.
 - :func:`refresh_window` rebuilds a rectangle of a layered costmap's master: the static and
   obstacle cells are combined, then every cell takes the cost of the squared distance (in
   cells) to its nearest lethal cell. That distance is exact and separable: the vertical gap to
@@ -59,6 +60,7 @@ def trace_scan(
     resolution: float,
     x: float,
     y: float,
+    headings: np.ndarray,
     cos_h: np.ndarray,
     sin_h: np.ndarray,
     ranges: np.ndarray,
@@ -76,9 +78,15 @@ def trace_scan(
     A beam is valid when its range is not NaN and at least ``range_min``; a valid finite range
     is a hit, which clears up to ``min(range, raytrace_max)`` and marks its cell lethal when
     ``obstacle_min <= range < obstacle_max``; a valid infinite range clears up to
-    ``raytrace_max``. The beam is sampled at ``samples[k]``, the first values of
-    ``numpy.arange(samples_start, longest clearing length, samples_step)`` (``samples`` holds
-    that arange up to ``raytrace_max``).
+    ``raytrace_max``. Beam ``b`` (direction ``headings[b]``, whose cosine and sine are
+    ``cos_h[b]``, ``sin_h[b]``) clears the grid cells of its samples ``x + cos_h[b] * t``,
+    ``y + sin_h[b] * t`` for ``t`` in ``samples[k]``, the values of
+    ``numpy.arange(samples_start, longest clearing length, samples_step)`` below its own
+    clearing length (``samples`` holds that arange up to ``raytrace_max``).
+
+    Clearing only changes cells that are not free, so rather than walking every sample of
+    every beam, each such cell near the sensor asks the few beams whose direction meets it
+    whether one of their samples falls in it.
 
     ``touched`` (zero, shaped like ``data``) is scratch, zero again on return. The cells whose
     value changed go to ``changed_index[:n]`` (``iy * width + ix``) with their old values in
@@ -101,66 +109,58 @@ def trace_scan(
     # numpy.arange's length: ceil((stop - start) / step), none when not positive.
     span = (longest - samples_start) / samples_step
     count = min(max(math.ceil(span), 0), samples.shape[0]) if span > 0 else 0
-    n = 0
+    # Per beam: how many samples it clears (those below its length), its hit cell.
+    reach = np.zeros(beams, dtype=np.int64)
+    end_x = np.full(beams, -2, dtype=np.int64)
+    end_y = np.full(beams, -2, dtype=np.int64)
     for b in range(beams):
-        r = ranges[b]
         limit = clear_to[b]
-        # Samples k < kb are the ones with samples[k] < limit (samples increase).
-        lo, hi = 0, count
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if samples[mid] < limit:
-                lo = mid + 1
-            else:
-                hi = mid
-        kb = lo
-        if kb == 0:
-            continue
-        is_hit = np.isfinite(r)
-        end_x, end_y = -2, -2
-        if is_hit:
-            end_x = int(np.floor((x + cos_h[b] * r - origin_x) / resolution))
-            end_y = int(np.floor((y + sin_h[b] * r - origin_y) / resolution))
-        c, s = cos_h[b], sin_h[b]
-        # Indices are kept in [-1, size]: -1 stands for any cell before the grid, size after.
-        ix = int(np.floor((x + c * samples[0] - origin_x) / resolution))
-        iy = int(np.floor((y + s * samples[0] - origin_y) / resolution))
-        ix = min(max(ix, -1), width)
-        iy = min(max(iy, -1), height)
-        entered = False
-        for k in range(kb):
-            t = samples[k]
-            ux = x + c * t - origin_x
-            uy = y + s * t - origin_y
-            while ix < width and ux >= threshold_x[ix + 1]:
-                ix += 1
-            while ix >= 0 and ux < threshold_x[ix]:
-                ix -= 1
-            while iy < height and uy >= threshold_y[iy + 1]:
-                iy += 1
-            while iy >= 0 and uy < threshold_y[iy]:
-                iy -= 1
-            if ix < 0 or ix >= width or iy < 0 or iy >= height:
-                if entered:
-                    break  # a ray leaves a rectangle once
-                continue
-            entered = True
-            if is_hit and ix == end_x and iy == end_y:
-                continue
-            old = data[iy, ix]
-            if old != _FREE:
-                if touched[iy, ix] == 0:
-                    touched[iy, ix] = 1
-                    changed_index[n] = iy * width + ix
-                    changed_old[n] = old
-                    n += 1
-                data[iy, ix] = _FREE
+        kb = 0
+        if limit > samples_start:
+            kb = min(int((limit - samples_start) / samples_step), count)
+        while kb < count and samples[kb] < limit:
+            kb += 1
+        while kb > 0 and not samples[kb - 1] < limit:
+            kb -= 1
+        reach[b] = kb
+        r = ranges[b]
+        if kb > 0 and np.isfinite(r):
+            end_x[b] = int(np.floor((x + cos_h[b] * r - origin_x) / resolution))
+            end_y[b] = int(np.floor((y + sin_h[b] * r - origin_y) / resolution))
+    n = 0
+    if count > 0:
+        n = _clear_cells(
+            data,
+            touched,
+            changed_index,
+            changed_old,
+            threshold_x,
+            threshold_y,
+            origin_x,
+            origin_y,
+            resolution,
+            x,
+            y,
+            headings,
+            cos_h,
+            sin_h,
+            reach,
+            end_x,
+            end_y,
+            samples,
+            samples_start,
+            samples_step,
+            samples[count - 1],
+        )
     for b in range(beams):
         r = ranges[b]
         if not (np.isfinite(r) and r >= range_min and r < obstacle_max and r >= obstacle_min):
             continue
-        ix = int(np.floor((x + cos_h[b] * r - origin_x) / resolution))
-        iy = int(np.floor((y + sin_h[b] * r - origin_y) / resolution))
+        if end_x[b] == -2 and end_y[b] == -2:
+            ix = int(np.floor((x + cos_h[b] * r - origin_x) / resolution))
+            iy = int(np.floor((y + sin_h[b] * r - origin_y) / resolution))
+        else:
+            ix, iy = end_x[b], end_y[b]
         if 0 <= ix < width and 0 <= iy < height:
             old = data[iy, ix]
             if old != _LETHAL:
@@ -188,6 +188,193 @@ def trace_scan(
             bounds[3] = max(bounds[3], iy + 1)
         kept += 1
     return kept
+
+
+@numba.njit(cache=True, nogil=True)
+def _clear_cells(
+    data: np.ndarray,
+    touched: np.ndarray,
+    changed_index: np.ndarray,
+    changed_old: np.ndarray,
+    threshold_x: np.ndarray,
+    threshold_y: np.ndarray,
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+    x: float,
+    y: float,
+    headings: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
+    reach: np.ndarray,
+    end_x: np.ndarray,
+    end_y: np.ndarray,
+    samples: np.ndarray,
+    samples_start: float,
+    samples_step: float,
+    farthest: float,
+) -> int:  # pragma: no cover - compiled
+    """Free every non-free cell that a sample of some beam falls in (see :func:`trace_scan`).
+
+    Returns how many cells it recorded in ``changed_index`` / ``changed_old``.
+    """
+    height, width = data.shape
+    beams = headings.shape[0]
+    # Beams by direction: angular bins of width about half the beam spacing.
+    bins = 2 * beams
+    bin_width = 2.0 * np.pi / bins
+    first = np.zeros(bins + 1, dtype=np.int64)
+    beam_bin = np.empty(beams, dtype=np.int64)
+    for b in range(beams):
+        angle = headings[b] - 2.0 * np.pi * np.floor(headings[b] / (2.0 * np.pi))
+        k = min(max(int(angle / bin_width), 0), bins - 1)
+        beam_bin[b] = k
+        first[k + 1] += 1
+    for k in range(bins):
+        first[k + 1] += first[k]
+    fill = first[:-1].copy()
+    by_bin = np.empty(beams, dtype=np.int64)
+    for b in range(beams):
+        by_bin[fill[beam_bin[b]]] = b
+        fill[beam_bin[b]] += 1
+    # Margins that make every test below a superset of the exact sample test: the float
+    # sample points lie within ~1e-13 m of the ideal ray, far inside these.
+    eps = 1e-9 + 1e-12 * (abs(x) + abs(y) + abs(origin_x) + abs(origin_y) + farthest)
+    half_diagonal = 0.5 * resolution * math.sqrt(2.0) + 2.0 * eps
+    sensor_u = x - origin_x
+    sensor_v = y - origin_y
+    # Every sample lies within ``farthest`` of the sensor.
+    ix0 = max(int(np.floor((sensor_u - farthest) / resolution)) - 1, 0)
+    iy0 = max(int(np.floor((sensor_v - farthest) / resolution)) - 1, 0)
+    ix1 = min(int(np.floor((sensor_u + farthest) / resolution)) + 2, width)
+    iy1 = min(int(np.floor((sensor_v + farthest) / resolution)) + 2, height)
+    n = 0
+    for iy in range(iy0, iy1):
+        for ix in range(ix0, ix1):
+            old = data[iy, ix]
+            if old == _FREE:
+                continue
+            u0, u1 = threshold_x[ix] - eps, threshold_x[ix + 1] + eps
+            v0, v1 = threshold_y[iy] - eps, threshold_y[iy + 1] + eps
+            dx = 0.5 * (u0 + u1) - sensor_u
+            dy = 0.5 * (v0 + v1) - sensor_v
+            distance = math.sqrt(dx * dx + dy * dy)
+            if distance > farthest + half_diagonal:
+                continue
+            if distance <= 2.0 * half_diagonal:
+                bin_lo, bin_hi = 0, bins - 1
+            else:
+                half = half_diagonal / (distance - half_diagonal) + 1e-9
+                centre = math.atan2(dy, dx)
+                bin_lo = int(np.floor((centre - half) / bin_width)) - 1
+                bin_hi = int(np.floor((centre + half) / bin_width)) + 1
+                if bin_hi - bin_lo >= bins:
+                    bin_lo, bin_hi = 0, bins - 1
+            cleared = False
+            for kb in range(bin_lo, bin_hi + 1):
+                k = kb % bins
+                for e in range(first[k], first[k + 1]):
+                    b = by_bin[e]
+                    if reach[b] == 0 or (ix == end_x[b] and iy == end_y[b]):
+                        continue
+                    if _sample_in_cell(
+                        cos_h[b],
+                        sin_h[b],
+                        reach[b],
+                        x,
+                        y,
+                        origin_x,
+                        origin_y,
+                        sensor_u,
+                        sensor_v,
+                        u0,
+                        u1,
+                        v0,
+                        v1,
+                        threshold_x[ix],
+                        threshold_x[ix + 1],
+                        threshold_y[iy],
+                        threshold_y[iy + 1],
+                        samples,
+                        samples_start,
+                        samples_step,
+                    ):
+                        cleared = True
+                        break
+                if cleared:
+                    break
+            if cleared:
+                touched[iy, ix] = 1
+                changed_index[n] = iy * width + ix
+                changed_old[n] = old
+                n += 1
+                data[iy, ix] = _FREE
+    return n
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _slab(origin: float, direction: float, lo: float, hi: float) -> tuple[float, float]:
+    """Parameters ``t`` where ``origin + direction * t`` lies in ``[lo, hi]`` (may be empty)."""
+    if abs(direction) < 1e-12:
+        if lo <= origin <= hi:
+            return -np.inf, np.inf
+        return np.inf, -np.inf
+    a = (lo - origin) / direction
+    b = (hi - origin) / direction
+    return (a, b) if a <= b else (b, a)
+
+
+@numba.njit(cache=True, nogil=True)
+def _sample_in_cell(
+    c: float,
+    s: float,
+    count: int,
+    x: float,
+    y: float,
+    origin_x: float,
+    origin_y: float,
+    sensor_u: float,
+    sensor_v: float,
+    u0: float,
+    u1: float,
+    v0: float,
+    v1: float,
+    cell_u0: float,
+    cell_u1: float,
+    cell_v0: float,
+    cell_v1: float,
+    samples: np.ndarray,
+    samples_start: float,
+    samples_step: float,
+) -> bool:  # pragma: no cover - compiled
+    """Whether one of the first ``count`` samples of a beam falls in a cell.
+
+    ``[u0, u1] x [v0, v1]`` is the cell grown by a margin, to find the samples to test;
+    ``[cell_u0, cell_u1) x [cell_v0, cell_v1)`` are its exact thresholds.
+    """
+    tx0, tx1 = _slab(sensor_u, c, u0, u1)
+    ty0, ty1 = _slab(sensor_v, s, v0, v1)
+    t0, t1 = max(tx0, ty0), min(tx1, ty1)
+    if t0 > t1 or t1 < samples_start:
+        return False
+    k0 = 0
+    if t0 > samples_start:
+        k0 = int((t0 - samples_start) / samples_step) - 1
+        if k0 >= count:
+            return False
+        k0 = max(k0, 0)
+    k1 = count - 1
+    if t1 < samples[k1]:
+        k1 = min(int((t1 - samples_start) / samples_step) + 1, count - 1)
+    for k in range(k0, k1 + 1):
+        t = samples[k]
+        u = x + c * t - origin_x
+        if not (cell_u0 <= u < cell_u1):
+            continue
+        v = y + s * t - origin_y
+        if cell_v0 <= v < cell_v1:
+            return True
+    return False
 
 
 @numba.njit(cache=True, nogil=True)
@@ -354,3 +541,73 @@ def refresh_window(
                 master[y0 + i, x0 + j] = cost if cost >= _INSCRIBED else _UNKNOWN
             else:
                 master[y0 + i, x0 + j] = max(value, cost)
+
+
+@numba.njit(cache=True, nogil=True)
+def shift_grid(data: np.ndarray, dix: int, diy: int, fill: int) -> None:  # pragma: no cover
+    """Move a grid's content in place: cell ``(ix, iy)`` takes the value of cell
+    ``(ix + dix, iy + diy)``, or ``fill`` where that lies outside the grid."""
+    height, width = data.shape
+    rows = range(height - 1, -1, -1) if diy < 0 else range(height)
+    for iy in rows:
+        sy = iy + diy
+        if sy < 0 or sy >= height:
+            for ix in range(width):
+                data[iy, ix] = fill
+            continue
+        if dix < 0:
+            for ix in range(width - 1, -1, -1):
+                sx = ix + dix
+                data[iy, ix] = data[sy, sx] if sx >= 0 else fill
+        else:
+            for ix in range(width):
+                sx = ix + dix
+                data[iy, ix] = data[sy, sx] if sx < width else fill
+
+
+@numba.njit(cache=True, nogil=True)
+def dropped_base_bounds(
+    obstacle: np.ndarray,
+    dix: int,
+    diy: int,
+    raster: np.ndarray,
+    raster_x0: int,
+    raster_y0: int,
+    use_static: bool,
+    bounds: np.ndarray,
+) -> bool:  # pragma: no cover - compiled
+    """Bounds of the obstacle cells a window move by ``(dix, diy)`` drops that raised a cell.
+
+    A dropped cell matters when it made its combined cell (static max obstacle) larger than
+    the static cell alone. ``raster_x0, raster_y0`` is the window's lattice offset in the
+    static raster before the move. Bounds ``(ix0, iy0, ix1, iy1)`` go to ``bounds`` in the
+    window's cells before the move; returns whether there are any.
+    """
+    height, width = obstacle.shape
+    raster_h, raster_w = raster.shape
+    kept_x0, kept_x1 = max(dix, 0), width + min(dix, 0)
+    kept_y0, kept_y1 = max(diy, 0), height + min(diy, 0)
+    found = False
+    for iy in range(height):
+        inside_y = kept_y0 <= iy < kept_y1
+        for ix in range(width):
+            if inside_y and kept_x0 <= ix < kept_x1:
+                continue
+            value = obstacle[iy, ix]
+            if value == _FREE:
+                continue
+            static = _FREE
+            if use_static:
+                sx, sy = raster_x0 + ix, raster_y0 + iy
+                static = raster[sy, sx] if 0 <= sx < raster_w and 0 <= sy < raster_h else _LETHAL
+            if value <= static:
+                continue
+            if not found:
+                bounds[0], bounds[1], bounds[2], bounds[3] = ix, iy, ix + 1, iy + 1
+                found = True
+            else:
+                bounds[0] = min(bounds[0], ix)
+                bounds[1] = min(bounds[1], iy)
+                bounds[2] = max(bounds[2], ix + 1)
+                bounds[3] = max(bounds[3], iy + 1)
+    return found

@@ -16,8 +16,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from baobab.nav.costmap import Costmap2D
-from baobab.nav.costmap_kernels import base_change_bounds, refresh_window
+from baobab.nav.costmap import FREE_SPACE, Costmap2D
+from baobab.nav.costmap_kernels import (
+    base_change_bounds,
+    dropped_base_bounds,
+    refresh_window,
+    shift_grid,
+)
 from baobab.nav.layers import (
     Bounds,
     InflationLayer,
@@ -197,20 +202,23 @@ class LayeredCostmap:
         cells that enter it (free of obstacles, and their static cells counted already).
         """
         size_x, size_y = self._master.size_x, self._master.size_y
-        data = self._master.data
-        kept_x = slice(max(dix, 0), size_x + min(dix, 0))
-        kept_y = slice(max(diy, 0), size_y + min(diy, 0))
-        obstacles = self.obstacle_layer.grid.data
-        outside = obstacles.copy()
-        outside[kept_y, kept_x] = 0
-        if outside.any():
-            ys, xs = np.nonzero(outside)
-            left = (int(xs.min()) - dix, int(ys.min()) - diy)
-            self._changed.append((*left, int(xs.max()) + 1 - dix, int(ys.max()) + 1 - diy))
-        moved = data[kept_y, kept_x].copy()
-        data[max(-diy, 0) : size_y + min(-diy, 0), max(-dix, 0) : size_x + min(-dix, 0)] = moved
-        self._changed = [(a - dix, b - diy, c - dix, d - diy) for a, b, c, d in self._changed]
-        self._stale = [(a - dix, b - diy, c - dix, d - diy) for a, b, c, d in self._stale]
+        if self.params.use_obstacle_layer and dropped_base_bounds(
+            self.obstacle_layer.grid.data,
+            dix,
+            diy,
+            self.static_layer.raster,
+            self._ix0,
+            self._iy0,
+            self.params.use_static_layer,
+            self._bounds,
+        ):
+            b = self._bounds
+            self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
+        shift_grid(self._master.data, dix, diy, FREE_SPACE)
+        if self._changed:
+            self._changed = [(a - dix, b - diy, c - dix, d - diy) for a, b, c, d in self._changed]
+        if self._stale:
+            self._stale = [(a - dix, b - diy, c - dix, d - diy) for a, b, c, d in self._stale]
         if dix > 0:
             self._stale.append((size_x - dix, 0, size_x, size_y))
         elif dix < 0:

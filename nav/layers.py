@@ -22,7 +22,12 @@ from baobab.nav.costmap import (
     MAX_NON_OBSTACLE,
     Costmap2D,
 )
-from baobab.nav.costmap_kernels import cell_thresholds, inflation_costs, trace_scan
+from baobab.nav.costmap_kernels import (
+    cell_thresholds,
+    inflation_costs,
+    shift_grid,
+    trace_scan,
+)
 from baobab.sim.lidar import LaserScan
 from baobab.sim.world import Box, Cylinder, World
 
@@ -191,6 +196,8 @@ class ObstacleLayer:
         self._samples = np.arange(
             self._samples_start, self.params.raytrace_max_range, self._samples_step
         )
+        self._angles_key: tuple[float, float, int] | None = None
+        self._angles = np.empty(0)
 
     @property
     def last_changes(self) -> tuple[np.ndarray, np.ndarray]:
@@ -205,16 +212,7 @@ class ObstacleLayer:
 
     def shift(self, dix: int, diy: int) -> None:
         """Move the grid by whole cells (rolling window); cells entering the window are free."""
-        data = self.grid.data
-        moved = np.full_like(data, FREE_SPACE)
-        ny, nx = data.shape
-        src_x = slice(max(dix, 0), min(nx + dix, nx))
-        dst_x = slice(max(-dix, 0), min(nx - dix, nx))
-        src_y = slice(max(diy, 0), min(ny + diy, ny))
-        dst_y = slice(max(-diy, 0), min(ny - diy, ny))
-        if src_x.start < src_x.stop and src_y.start < src_y.stop:
-            moved[dst_y, dst_x] = data[src_y, src_x]
-        data[:] = moved
+        shift_grid(self.grid.data, dix, diy, FREE_SPACE)
         self.grid.origin_x += dix * self.grid.resolution
         self.grid.origin_y += diy * self.grid.resolution
         self._changed_count = 0
@@ -233,7 +231,11 @@ class ObstacleLayer:
         if ranges.size == 0:
             return None
         pose = scan.sensor_pose
-        headings = pose.yaw + scan.angles
+        # Beam angles depend on these three numbers only: reuse them from scan to scan.
+        key = (scan.angle_min, scan.angle_increment, ranges.size)
+        if key != self._angles_key:
+            self._angles_key, self._angles = key, scan.angles
+        headings = pose.yaw + self._angles
         count = trace_scan(
             grid.data,
             self._touched,
@@ -246,6 +248,7 @@ class ObstacleLayer:
             grid.resolution,
             pose.x,
             pose.y,
+            headings,
             np.cos(headings),
             np.sin(headings),
             ranges,
