@@ -111,22 +111,25 @@ def trace_scan(
     count = min(max(math.ceil(span), 0), samples.shape[0]) if span > 0 else 0
     # Per beam: how many samples it clears (those below its length), its hit cell.
     reach = np.zeros(beams, dtype=np.int64)
-    end_x = np.full(beams, -2, dtype=np.int64)
-    end_y = np.full(beams, -2, dtype=np.int64)
+    # Hit cells, -1 / size standing for any cell before / after the grid.
+    end_x = np.full(beams, -1, dtype=np.int64)
+    end_y = np.full(beams, -1, dtype=np.int64)
+    per_step = 1.0 / samples_step
+    per_cell = 1.0 / resolution
     for b in range(beams):
         limit = clear_to[b]
         kb = 0
         if limit > samples_start:
-            kb = min(int((limit - samples_start) / samples_step), count)
+            kb = min(int((limit - samples_start) * per_step), count)
         while kb < count and samples[kb] < limit:
             kb += 1
         while kb > 0 and not samples[kb - 1] < limit:
             kb -= 1
         reach[b] = kb
         r = ranges[b]
-        if kb > 0 and np.isfinite(r):
-            end_x[b] = int(np.floor((x + cos_h[b] * r - origin_x) / resolution))
-            end_y[b] = int(np.floor((y + sin_h[b] * r - origin_y) / resolution))
+        if np.isfinite(r) and r >= range_min:
+            end_x[b] = _cell_of(x + cos_h[b] * r - origin_x, per_cell, threshold_x)
+            end_y[b] = _cell_of(y + sin_h[b] * r - origin_y, per_cell, threshold_y)
     n = 0
     if count > 0:
         n = _clear_cells(
@@ -156,11 +159,7 @@ def trace_scan(
         r = ranges[b]
         if not (np.isfinite(r) and r >= range_min and r < obstacle_max and r >= obstacle_min):
             continue
-        if end_x[b] == -2 and end_y[b] == -2:
-            ix = int(np.floor((x + cos_h[b] * r - origin_x) / resolution))
-            iy = int(np.floor((y + sin_h[b] * r - origin_y) / resolution))
-        else:
-            ix, iy = end_x[b], end_y[b]
+        ix, iy = end_x[b], end_y[b]
         if 0 <= ix < width and 0 <= iy < height:
             old = data[iy, ix]
             if old != _LETHAL:
@@ -188,6 +187,28 @@ def trace_scan(
             bounds[3] = max(bounds[3], iy + 1)
         kept += 1
     return kept
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _cell_of(u: float, per_cell: float, thresholds: np.ndarray) -> int:  # pragma: no cover
+    """``floor(u / resolution)`` clamped to ``[-1, size]`` (``size + 1`` thresholds), exactly.
+
+    The product with ``per_cell = 1 / resolution`` is off by at most one cell; the thresholds
+    settle it.
+    """
+    size = thresholds.shape[0] - 1
+    guess = u * per_cell
+    if not guess > -1.0:
+        index = -1
+    elif guess >= size:
+        index = size
+    else:
+        index = int(np.floor(guess))
+    while index < size and u >= thresholds[index + 1]:
+        index += 1
+    while index >= 0 and u < thresholds[index]:
+        index -= 1
+    return index
 
 
 @numba.njit(cache=True, nogil=True)
@@ -223,11 +244,14 @@ def _clear_cells(
     # Beams by direction: angular bins of width about half the beam spacing.
     bins = 2 * beams
     bin_width = 2.0 * np.pi / bins
+    per_bin = 1.0 / bin_width
+    per_turn = 1.0 / (2.0 * np.pi)
     first = np.zeros(bins + 1, dtype=np.int64)
     beam_bin = np.empty(beams, dtype=np.int64)
     for b in range(beams):
-        angle = headings[b] - 2.0 * np.pi * np.floor(headings[b] / (2.0 * np.pi))
-        k = min(max(int(angle / bin_width), 0), bins - 1)
+        # Approximate bins are fine: a cell looks one bin beyond its angular extent.
+        angle = headings[b] - 2.0 * np.pi * np.floor(headings[b] * per_turn)
+        k = min(max(int(angle * per_bin), 0), bins - 1)
         beam_bin[b] = k
         first[k + 1] += 1
     for k in range(bins):
@@ -266,8 +290,8 @@ def _clear_cells(
             else:
                 half = half_diagonal / (distance - half_diagonal) + 1e-9
                 centre = math.atan2(dy, dx)
-                bin_lo = int(np.floor((centre - half) / bin_width)) - 1
-                bin_hi = int(np.floor((centre + half) / bin_width)) + 1
+                bin_lo = int(np.floor((centre - half) * per_bin)) - 1
+                bin_hi = int(np.floor((centre + half) * per_bin)) + 1
                 if bin_hi - bin_lo >= bins:
                     bin_lo, bin_hi = 0, bins - 1
             cleared = False
@@ -441,25 +465,31 @@ def _inflate_rows(
     window. ``out[i - row0, j - col0]`` gets the costs.
     """
     for r in range(1, rows):
+        above, row = gap[r - 1], gap[r]
         for c in range(cols):
-            gap[r, c] = min(gap[r, c], gap[r - 1, c] + 1)
+            row[c] = min(row[c], above[c] + 1)
     for r in range(rows - 2, -1, -1):
+        below, row = gap[r + 1], gap[r]
         for c in range(cols):
-            gap[r, c] = min(gap[r, c], gap[r + 1, c] + 1)
+            row[c] = min(row[c], below[c] + 1)
     last = table.shape[0] - 1
-    squared = np.empty(cols, dtype=np.int64)
-    best = np.empty(col1 - col0, dtype=np.int64)
+    span = col1 - col0
+    squared = np.empty(cols, dtype=np.int32)
+    best = np.empty(span, dtype=np.int32)
     for r in range(row0, row1):
+        row = gap[r]
         for c in range(cols):
-            squared[c] = gap[r, c] * gap[r, c]
-        for j in range(col1 - col0):
-            best[j] = squared[col0 + j]
+            squared[c] = row[c] * row[c]
+        best[:] = squared[col0:col1]
         for o in range(1, reach + 1):
-            o2 = o * o
-            for j in range(col1 - col0):
-                best[j] = min(best[j], min(squared[col0 + j - o], squared[col0 + j + o]) + o2)
-        for j in range(col1 - col0):
-            out[r - row0, j] = table[min(best[j], last)]
+            o2 = np.int32(o * o)
+            left = squared[col0 - o : col1 - o]
+            right = squared[col0 + o : col1 + o]
+            for j in range(span):
+                best[j] = min(best[j], min(left[j], right[j]) + o2)
+        costs = out[r - row0]
+        for j in range(span):
+            costs[j] = table[min(best[j], last)]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -471,7 +501,7 @@ def inflation_costs(
     The table must be ``FREE`` for every ``d2 > reach^2`` (and at its last index).
     """
     h, w = lethal.shape
-    gap = np.empty((h + 2 * reach, w + 2 * reach), dtype=np.int64)
+    gap = np.empty((h + 2 * reach, w + 2 * reach), dtype=np.int32)
     gap[:, :] = reach + 1
     for i in range(h):
         for j in range(w):
@@ -517,30 +547,42 @@ def refresh_window(
     raster_h, raster_w = raster.shape
     ix0, iy0 = x0 - margin, y0 - margin
     cols, rows = x1 - x0 + 2 * margin, y1 - y0 + 2 * margin
+    cap = reach + 1
+    # Static cells where the rectangle meets the raster (lethal elsewhere), obstacle cells
+    # where it meets the window, as row slices.
+    rx0 = raster_x0 + ix0
+    static_c0, static_c1 = max(-rx0, 0), min(raster_w - rx0, cols)
+    obstacle_c0, obstacle_c1 = max(-ix0, 0), min(width - ix0, cols)
     for r in range(rows):
         gy = iy0 + r
         sy = raster_y0 + gy
+        row = base[r]
+        if use_static:
+            row[:cols] = _LETHAL
+            if 0 <= sy < raster_h and static_c0 < static_c1:
+                row[static_c0:static_c1] = raster[sy, rx0 + static_c0 : rx0 + static_c1]
+        else:
+            row[:cols] = _FREE
+        if use_obstacle and 0 <= gy < height and obstacle_c0 < obstacle_c1:
+            cells = obstacle[gy, ix0 + obstacle_c0 : ix0 + obstacle_c1]
+            for c in range(obstacle_c1 - obstacle_c0):
+                row[obstacle_c0 + c] = max(row[obstacle_c0 + c], cells[c])
+        lethal_gap = gap[r]
         for c in range(cols):
-            gx = ix0 + c
-            value = _FREE
-            if use_static:
-                sx = raster_x0 + gx
-                value = raster[sy, sx] if 0 <= sx < raster_w and 0 <= sy < raster_h else _LETHAL
-            if use_obstacle and 0 <= gx < width and 0 <= gy < height:
-                value = max(value, obstacle[gy, gx])
-            base[r, c] = value
-            gap[r, c] = 0 if value == _LETHAL else reach + 1
+            lethal_gap[c] = 0 if row[c] == _LETHAL else cap
     _inflate_rows(
         gap, rows, cols, reach, margin, rows - margin, margin, cols - margin, table, costs
     )
     for i in range(y1 - y0):
+        values = base[margin + i, margin : margin + x1 - x0]
+        inflated = costs[i]
+        out = master[y0 + i, x0:x1]
         for j in range(x1 - x0):
-            value = base[margin + i, margin + j]
-            cost = costs[i, j]
+            value, cost = values[j], inflated[j]
             if value == _UNKNOWN:
-                master[y0 + i, x0 + j] = cost if cost >= _INSCRIBED else _UNKNOWN
+                out[j] = cost if cost >= _INSCRIBED else _UNKNOWN
             else:
-                master[y0 + i, x0 + j] = max(value, cost)
+                out[j] = max(value, cost)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -611,3 +653,97 @@ def dropped_base_bounds(
                 bounds[2] = max(bounds[2], ix + 1)
                 bounds[3] = max(bounds[3], iy + 1)
     return found
+
+
+@numba.njit(cache=True, nogil=True)
+def refresh_window_static(
+    master: np.ndarray,
+    raster: np.ndarray,
+    static_costs: np.ndarray,
+    raster_x0: int,
+    raster_y0: int,
+    use_static: bool,
+    obstacle: np.ndarray,
+    use_obstacle: bool,
+    x0: int,
+    y0: int,
+    x1: int,
+    y1: int,
+    reach: int,
+    table: np.ndarray,
+    costs: np.ndarray,
+) -> bool:  # pragma: no cover - compiled
+    """:func:`refresh_window` from the static layer's own inflation plus the obstacles'.
+
+    ``static_costs`` is the inflation cost of the static raster by itself (lethal beyond the
+    raster). With a cost table that never rises with the distance, the cost of the nearest
+    lethal cell of the union is the larger of the static cost and the cost of the nearest
+    obstacle that makes a free static cell lethal, so only those obstacles are stamped in.
+    Returns False, changing nothing, when an obstacle cell above lethal (unknown) lies within
+    ``reach`` of the rectangle: it would hide a static lethal cell, so the caller must use
+    :func:`refresh_window`. ``costs`` is scratch of at least the rectangle's size.
+    """
+    height, width = master.shape
+    raster_h, raster_w = raster.shape
+    last = table.shape[0] - 1
+    # The obstacles within reach of the rectangle, checked first: nothing changes on False.
+    ox0, oy0 = max(x0 - reach, 0), max(y0 - reach, 0)
+    ox1, oy1 = min(x1 + reach, width), min(y1 + reach, height)
+    if use_obstacle:
+        for oy in range(oy0, oy1):
+            for ox in range(ox0, ox1):
+                if obstacle[oy, ox] > _LETHAL:
+                    return False
+    for i in range(y1 - y0):
+        sy = raster_y0 + y0 + i
+        inside_y = 0 <= sy < raster_h
+        row = costs[i]
+        for j in range(x1 - x0):
+            sx = raster_x0 + x0 + j
+            if not use_static:
+                row[j] = _FREE
+            elif inside_y and 0 <= sx < raster_w:
+                row[j] = static_costs[sy, sx]
+            else:
+                row[j] = table[0]
+    if use_obstacle:
+        for oy in range(oy0, oy1):
+            for ox in range(ox0, ox1):
+                value = obstacle[oy, ox]
+                if value != _LETHAL:
+                    continue
+                static = _FREE
+                if use_static:
+                    sx, sy = raster_x0 + ox, raster_y0 + oy
+                    inside = 0 <= sx < raster_w and 0 <= sy < raster_h
+                    static = raster[sy, sx] if inside else _LETHAL
+                if static >= _LETHAL:
+                    continue  # already lethal in the static costs, or hidden by unknown
+                for i in range(max(oy - reach, y0), min(oy + reach + 1, y1)):
+                    dy = i - oy
+                    row = costs[i - y0]
+                    for j in range(max(ox - reach, x0), min(ox + reach + 1, x1)):
+                        dx = j - ox
+                        cost = table[min(dx * dx + dy * dy, last)]
+                        if cost > row[j - x0]:
+                            row[j - x0] = cost
+    for i in range(y1 - y0):
+        gy = y0 + i
+        sy = raster_y0 + gy
+        inside_y = 0 <= sy < raster_h
+        row = costs[i]
+        out = master[gy]
+        for j in range(x1 - x0):
+            gx = x0 + j
+            value = _FREE
+            if use_static:
+                sx = raster_x0 + gx
+                value = raster[sy, sx] if inside_y and 0 <= sx < raster_w else _LETHAL
+            if use_obstacle:
+                value = max(value, obstacle[gy, gx])
+            cost = row[j]
+            if value == _UNKNOWN:
+                out[gx] = cost if cost >= _INSCRIBED else _UNKNOWN
+            else:
+                out[gx] = max(value, cost)
+    return True

@@ -21,6 +21,7 @@ from baobab.nav.costmap_kernels import (
     base_change_bounds,
     dropped_base_bounds,
     refresh_window,
+    refresh_window_static,
     shift_grid,
 )
 from baobab.nav.layers import (
@@ -95,9 +96,10 @@ class LayeredCostmap:
         self._bounds = np.zeros(4, dtype=np.int64)
         margin = self.inflation_layer.margin_cells(res)
         scratch = (size_y + 2 * margin, size_x + 2 * margin)
-        self._gap = np.empty(scratch, dtype=np.int64)
+        self._gap = np.empty(scratch, dtype=np.int32)
         self._base = np.empty(scratch, dtype=np.uint8)
         self._costs = np.empty((size_y, size_x), dtype=np.uint8)
+        self._no_static_costs = np.zeros((1, 1), dtype=np.uint8)
 
     @classmethod
     def global_costmap(
@@ -228,6 +230,18 @@ class LayeredCostmap:
         elif diy < 0:
             self._stale.append((0, 0, size_x, -diy))
 
+    def _static_costs(self, table: np.ndarray, reach: int) -> np.ndarray | None:
+        """The static layer's own inflation, when the master may be built on it (else None).
+
+        The cost of the nearest of two lethal sets is the larger of their costs only when the
+        cost never rises with the distance.
+        """
+        if not self.inflation_layer.cost_falls_with_distance(self.resolution):
+            return None
+        if not self.params.use_static_layer:
+            return self._no_static_costs
+        return self.static_layer.inflation_costs(table, reach)
+
     def _refresh(self) -> None:
         """Recompute the master where something changed, plus the inflation reach."""
         if not self._changed and not self._stale:
@@ -242,16 +256,39 @@ class LayeredCostmap:
         for x0, y0, x1, y1 in grown + self._stale:
             rect = (max(x0, 0), max(y0, 0), min(x1, size_x), min(y1, size_y))
             if rect[0] < rect[2] and rect[1] < rect[3]:
-                rects = _merge_rect(rects, rect)
+                rects = _merge_rect(rects, rect, margin)
+        static_costs = self._static_costs(table, reach)
+        master = self._master.data
+        raster = self.static_layer.raster
+        obstacles = self.obstacle_layer.grid.data
+        use_static, use_obstacle = self.params.use_static_layer, self.params.use_obstacle_layer
         for x0, y0, x1, y1 in rects:
-            refresh_window(
-                self._master.data,
-                self.static_layer.raster,
+            if static_costs is not None and refresh_window_static(
+                master,
+                raster,
+                static_costs,
                 self._ix0,
                 self._iy0,
-                self.params.use_static_layer,
-                self.obstacle_layer.grid.data,
-                self.params.use_obstacle_layer,
+                use_static,
+                obstacles,
+                use_obstacle,
+                x0,
+                y0,
+                x1,
+                y1,
+                reach,
+                table,
+                self._costs,
+            ):
+                continue
+            refresh_window(
+                master,
+                raster,
+                self._ix0,
+                self._iy0,
+                use_static,
+                obstacles,
+                use_obstacle,
                 x0,
                 y0,
                 x1,
@@ -267,22 +304,28 @@ class LayeredCostmap:
         self.revision += 1
 
 
-def _merge_rect(rects: list[Bounds], rect: Bounds) -> list[Bounds]:
-    """Add ``rect`` to disjoint ``rects``, merging every overlapping one into a bounding box."""
+def _merge_rect(rects: list[Bounds], rect: Bounds, margin: int) -> list[Bounds]:
+    """Add ``rect`` to ``rects``, merged with those whose bounding box costs less to refresh.
+
+    Refreshing a rectangle reads it grown by ``margin`` on every side; two rectangles are
+    refreshed as their bounding box when that reads no more cells than both apart. Overlapping
+    rectangles that stay apart are refreshed twice where they overlap, which is harmless.
+    """
+
+    def cost(r: Bounds) -> int:
+        return (r[2] - r[0] + 2 * margin) * (r[3] - r[1] + 2 * margin)
+
     merged = rect
     grew = True
     while grew:
         grew = False
         apart = []
         for other in rects:
-            if _overlap(other, merged):
-                merged = union_bounds(merged, other) or merged
+            box = union_bounds(merged, other) or merged
+            if cost(box) <= cost(merged) + cost(other):
+                merged = box
                 grew = True
             else:
                 apart.append(other)
         rects = apart
     return [*rects, merged]
-
-
-def _overlap(a: Bounds, b: Bounds) -> bool:
-    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]

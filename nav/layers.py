@@ -79,6 +79,8 @@ class StaticLayer:
             self._rasterise_box(box)
         for cylinder in world.cylinders:
             self._rasterise_cylinder(cylinder)
+        self._inflated_key: tuple[bytes, int] | None = None
+        self._inflated = np.empty((0, 0), dtype=np.uint8)
 
     @property
     def size_x(self) -> int:
@@ -105,6 +107,22 @@ class StaticLayer:
         if sx0 < sx1 and sy0 < sy1:
             out[sy0 - iy0 : sy1 - iy0, sx0 - ix0 : sx1 - ix0] = self.raster[sy0:sy1, sx0:sx1]
         return out
+
+    def inflation_costs(self, table: np.ndarray, reach: int) -> np.ndarray:
+        """The raster's own inflation costs (cells beyond it lethal), computed once per table.
+
+        Args:
+            table: cost by squared cell distance (see :meth:`InflationLayer.cost_table`).
+            reach: cells beyond which the table is free.
+        """
+        key = (table.tobytes(), reach)
+        if self._inflated_key != key:
+            pad = reach + 1
+            lethal = np.pad(self.raster == LETHAL_OBSTACLE, pad, constant_values=True)
+            costs = inflation_costs(lethal, reach, table)
+            self._inflated = np.ascontiguousarray(costs[pad:-pad, pad:-pad])
+            self._inflated_key = key
+        return self._inflated
 
     def _cell_window(
         self, x0: float, y0: float, x1: float, y1: float
@@ -292,6 +310,7 @@ class InflationLayer:
         self._table: np.ndarray | None = None
         self._table_resolution = 0.0
         self._reach = 0
+        self._monotone = True
 
     def cost_of_distance(self, distance: np.ndarray) -> np.ndarray:
         """Inflation cost (``uint8``) at the given distances (m) from the nearest lethal cell."""
@@ -327,8 +346,14 @@ class InflationLayer:
             farthest = int(np.flatnonzero(table)[-1])
             reach = math.isqrt(farthest - 1) + 1 if farthest > 0 else 0
             self._table, self._reach = table, min(reach, margin)
+            self._monotone = bool(np.all(np.diff(table.astype(np.int64)) <= 0))
             self._table_resolution = resolution
         return self._table, self._reach
+
+    def cost_falls_with_distance(self, resolution: float) -> bool:
+        """Whether the cost table never rises with the distance (true for positive scaling)."""
+        self.cost_table(resolution)
+        return self._monotone
 
     def margin_cells(self, resolution: float) -> int:
         """How many cells a lethal cell's inflation reaches."""
