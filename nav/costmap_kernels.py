@@ -631,27 +631,32 @@ def dropped_base_bounds(
     kept_y0, kept_y1 = max(diy, 0), height + min(diy, 0)
     found = False
     for iy in range(height):
-        inside_y = kept_y0 <= iy < kept_y1
-        for ix in range(width):
-            if inside_y and kept_x0 <= ix < kept_x1:
-                continue
-            value = obstacle[iy, ix]
-            if value == _FREE:
-                continue
-            static = _FREE
-            if use_static:
-                sx, sy = raster_x0 + ix, raster_y0 + iy
-                static = raster[sy, sx] if 0 <= sx < raster_w and 0 <= sy < raster_h else _LETHAL
-            if value <= static:
-                continue
-            if not found:
-                bounds[0], bounds[1], bounds[2], bounds[3] = ix, iy, ix + 1, iy + 1
-                found = True
+        # A kept row drops only the cells left and right of the kept columns.
+        kept_row = kept_y0 <= iy < kept_y1
+        for segment in range(2):
+            if kept_row:
+                c0, c1 = (0, kept_x0) if segment == 0 else (kept_x1, width)
             else:
-                bounds[0] = min(bounds[0], ix)
-                bounds[1] = min(bounds[1], iy)
-                bounds[2] = max(bounds[2], ix + 1)
-                bounds[3] = max(bounds[3], iy + 1)
+                c0, c1 = (0, width) if segment == 0 else (0, 0)
+            for ix in range(c0, c1):
+                value = obstacle[iy, ix]
+                if value == _FREE:
+                    continue
+                static = _FREE
+                if use_static:
+                    sx, sy = raster_x0 + ix, raster_y0 + iy
+                    inside = 0 <= sx < raster_w and 0 <= sy < raster_h
+                    static = raster[sy, sx] if inside else _LETHAL
+                if value <= static:
+                    continue
+                if not found:
+                    bounds[0], bounds[1], bounds[2], bounds[3] = ix, iy, ix + 1, iy + 1
+                    found = True
+                else:
+                    bounds[0] = min(bounds[0], ix)
+                    bounds[1] = min(bounds[1], iy)
+                    bounds[2] = max(bounds[2], ix + 1)
+                    bounds[3] = max(bounds[3], iy + 1)
     return found
 
 

@@ -100,6 +100,7 @@ class LayeredCostmap:
         self._base = np.empty(scratch, dtype=np.uint8)
         self._costs = np.empty((size_y, size_x), dtype=np.uint8)
         self._no_static_costs = np.zeros((1, 1), dtype=np.uint8)
+        self._static_inflation: np.ndarray | None = None
 
     @classmethod
     def global_costmap(
@@ -240,7 +241,9 @@ class LayeredCostmap:
             return None
         if not self.params.use_static_layer:
             return self._no_static_costs
-        return self.static_layer.inflation_costs(table, reach)
+        if self._static_inflation is None:
+            self._static_inflation = self.static_layer.inflation_costs(table, reach)
+        return self._static_inflation
 
     def _refresh(self) -> None:
         """Recompute the master where something changed, plus the inflation reach."""
