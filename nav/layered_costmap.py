@@ -3,8 +3,10 @@
 A :class:`LayeredCostmap` combines a static layer (the world's geometry), an obstacle layer
 (lidar) and an inflation layer into one master :class:`~baobab.nav.costmap.Costmap2D`, the way
 Nav2's ``Costmap2DROS`` does: static cells first, then the maximum with the obstacle layer, then
-inflation. Updates are incremental: each change records the cells it touched, and the master is
-recomputed only there (plus the inflation radius) and only when someone reads it.
+inflation. Updates are incremental and lazy: a scan records the cells whose combined value it
+changed, a rolling window's move shifts the master and records the cells that entered, and the
+master is recomputed only there (plus the inflation radius around changed cells) and only when
+someone reads it.
 """
 
 from __future__ import annotations
@@ -14,12 +16,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from baobab.nav.costmap import (
-    FREE_SPACE,
-    INSCRIBED_INFLATED_OBSTACLE,
-    LETHAL_OBSTACLE,
-    NO_INFORMATION,
-    Costmap2D,
+from baobab.nav.costmap import FREE_SPACE, Costmap2D
+from baobab.nav.costmap_kernels import (
+    base_change_bounds,
+    dropped_base_bounds,
+    refresh_window,
+    refresh_window_static,
+    shift_grid,
 )
 from baobab.nav.layers import (
     Bounds,
@@ -86,7 +89,18 @@ class LayeredCostmap:
         self.obstacle_layer = ObstacleLayer(obstacle_grid, self.params.obstacle)
         self.inflation_layer = InflationLayer(self.params.inflation)
         self.revision = 0
-        self._dirty: Bounds | None = (0, 0, size_x, size_y)
+        # Pending work: cells whose combined value changed (their inflation reach changes too)
+        # and cells to recompute by themselves (entered a rolling window).
+        self._changed: list[Bounds] = []
+        self._stale: list[Bounds] = [(0, 0, size_x, size_y)]
+        self._bounds = np.zeros(4, dtype=np.int64)
+        margin = self.inflation_layer.margin_cells(res)
+        scratch = (size_y + 2 * margin, size_x + 2 * margin)
+        self._gap = np.empty(scratch, dtype=np.int32)
+        self._base = np.empty(scratch, dtype=np.uint8)
+        self._costs = np.empty((size_y, size_x), dtype=np.uint8)
+        self._no_static_costs = np.zeros((1, 1), dtype=np.uint8)
+        self._static_inflation: np.ndarray | None = None
 
     @classmethod
     def global_costmap(
@@ -141,16 +155,35 @@ class LayeredCostmap:
         dix, diy = ix0 - self._ix0, iy0 - self._iy0
         if dix == 0 and diy == 0:
             return
+        if abs(dix) >= size_x or abs(diy) >= size_y:
+            self._changed, self._stale = [], [(0, 0, size_x, size_y)]
+        else:
+            self._shift_master(dix, diy)
         self.obstacle_layer.shift(dix, diy)
         self._ix0, self._iy0 = ix0, iy0
         self._master.origin_x = self.obstacle_layer.grid.origin_x
         self._master.origin_y = self.obstacle_layer.grid.origin_y
-        self._dirty = (0, 0, size_x, size_y)
 
     def add_scan(self, scan: LaserScan) -> None:
         """Mark and clear obstacles from one scan (ignored without an obstacle layer)."""
-        if self.params.use_obstacle_layer:
-            self._dirty = union_bounds(self._dirty, self.obstacle_layer.add_scan(scan))
+        if not self.params.use_obstacle_layer:
+            return
+        if self.obstacle_layer.add_scan(scan) is None:
+            return
+        index, old = self.obstacle_layer.last_changes
+        if base_change_bounds(
+            self.obstacle_layer.grid.data,
+            index,
+            old,
+            index.shape[0],
+            self.static_layer.raster,
+            self._ix0,
+            self._iy0,
+            self.params.use_static_layer,
+            self._bounds,
+        ):
+            b = self._bounds
+            self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
 
     def update(self, robot_pose: Pose2D | None = None, scans: Iterable[LaserScan] = ()) -> None:
         """One update cycle: follow the robot (rolling window), then take in the scans."""
@@ -162,47 +195,140 @@ class LayeredCostmap:
     def clear(self) -> None:
         """Reset the obstacle layer (clearEntireCostmap); the static layer stays."""
         self.obstacle_layer.reset()
-        self._dirty = (0, 0, self._master.size_x, self._master.size_y)
+        self._changed, self._stale = [], [(0, 0, self._master.size_x, self._master.size_y)]
+
+    def _shift_master(self, dix: int, diy: int) -> None:
+        """Move the master by whole cells, keeping what stays valid, before the obstacles move.
+
+        A kept cell keeps its value: its static and obstacle neighbours move with it, except
+        obstacles that leave the window (recorded as changed cells, outside the new window) and
+        cells that enter it (free of obstacles, and their static cells counted already).
+        """
+        size_x, size_y = self._master.size_x, self._master.size_y
+        if self.params.use_obstacle_layer and dropped_base_bounds(
+            self.obstacle_layer.grid.data,
+            dix,
+            diy,
+            self.static_layer.raster,
+            self._ix0,
+            self._iy0,
+            self.params.use_static_layer,
+            self._bounds,
+        ):
+            b = self._bounds
+            self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
+        shift_grid(self._master.data, dix, diy, FREE_SPACE)
+        if self._changed:
+            self._changed = [(a - dix, b - diy, c - dix, d - diy) for a, b, c, d in self._changed]
+        if self._stale:
+            self._stale = [(a - dix, b - diy, c - dix, d - diy) for a, b, c, d in self._stale]
+        if dix > 0:
+            self._stale.append((size_x - dix, 0, size_x, size_y))
+        elif dix < 0:
+            self._stale.append((0, 0, -dix, size_y))
+        if diy > 0:
+            self._stale.append((0, size_y - diy, size_x, size_y))
+        elif diy < 0:
+            self._stale.append((0, 0, size_x, -diy))
+
+    def _static_costs(self, table: np.ndarray, reach: int) -> np.ndarray | None:
+        """The static layer's own inflation, when the master may be built on it (else None).
+
+        The cost of the nearest of two lethal sets is the larger of their costs only when the
+        cost never rises with the distance.
+        """
+        if not self.inflation_layer.cost_falls_with_distance(self.resolution):
+            return None
+        if not self.params.use_static_layer:
+            return self._no_static_costs
+        if self._static_inflation is None:
+            self._static_inflation = self.static_layer.inflation_costs(table, reach)
+        return self._static_inflation
 
     def _refresh(self) -> None:
         """Recompute the master where something changed, plus the inflation reach."""
-        if self._dirty is None:
+        if not self._changed and not self._stale:
             return
         size_x, size_y = self._master.size_x, self._master.size_y
         margin = self.inflation_layer.margin_cells(self.resolution)
-        x0, y0, x1, y1 = self._dirty
-        # Cells that may change, and the cells whose lethal state decides them.
-        wx0, wy0 = max(x0 - margin, 0), max(y0 - margin, 0)
-        wx1, wy1 = min(x1 + margin, size_x), min(y1 + margin, size_y)
-        ix0, iy0, ix1, iy1 = wx0 - margin, wy0 - margin, wx1 + margin, wy1 + margin
-        combined = self._combined(ix0, iy0, ix1, iy1)
-        inflation = self.inflation_layer.inflate(combined == LETHAL_OBSTACLE, self.resolution)
-        inner = (slice(wy0 - iy0, wy1 - iy0), slice(wx0 - ix0, wx1 - ix0))
-        base, inflated = combined[inner], inflation[inner]
-        # Nav2's inflation update: unknown cells only take inscribed or lethal inflation.
-        self._master.data[wy0:wy1, wx0:wx1] = np.where(
-            base == NO_INFORMATION,
-            np.where(inflated >= INSCRIBED_INFLATED_OBSTACLE, inflated, NO_INFORMATION),
-            np.maximum(base, inflated),
-        )
-        self._dirty = None
+        table, reach = self.inflation_layer.cost_table(self.resolution)
+        grown = [
+            (x0 - margin, y0 - margin, x1 + margin, y1 + margin) for x0, y0, x1, y1 in self._changed
+        ]
+        rects: list[Bounds] = []
+        for x0, y0, x1, y1 in grown + self._stale:
+            rect = (max(x0, 0), max(y0, 0), min(x1, size_x), min(y1, size_y))
+            if rect[0] < rect[2] and rect[1] < rect[3]:
+                rects = _merge_rect(rects, rect, margin)
+        static_costs = self._static_costs(table, reach)
+        master = self._master.data
+        raster = self.static_layer.raster
+        obstacles = self.obstacle_layer.grid.data
+        use_static, use_obstacle = self.params.use_static_layer, self.params.use_obstacle_layer
+        for x0, y0, x1, y1 in rects:
+            if static_costs is not None and refresh_window_static(
+                master,
+                raster,
+                static_costs,
+                self._ix0,
+                self._iy0,
+                use_static,
+                obstacles,
+                use_obstacle,
+                x0,
+                y0,
+                x1,
+                y1,
+                reach,
+                table,
+                self._costs,
+            ):
+                continue
+            refresh_window(
+                master,
+                raster,
+                self._ix0,
+                self._iy0,
+                use_static,
+                obstacles,
+                use_obstacle,
+                x0,
+                y0,
+                x1,
+                y1,
+                margin,
+                reach,
+                table,
+                self._gap,
+                self._base,
+                self._costs,
+            )
+        self._changed, self._stale = [], []
         self.revision += 1
 
-    def _combined(self, ix0: int, iy0: int, ix1: int, iy1: int) -> np.ndarray:
-        """Static cells combined with obstacles over window cells ``[ix0, ix1) x [iy0, iy1)``.
 
-        The rectangle may reach beyond the window: static cells come from the raster (lethal
-        beyond the floor), obstacle cells there are unknown to this costmap and left out.
-        """
-        shape = (iy1 - iy0, ix1 - ix0)
-        if self.params.use_static_layer:
-            combined = self.static_layer.window(self._ix0 + ix0, self._iy0 + iy0, *shape[::-1])
-        else:
-            combined = np.full(shape, FREE_SPACE, dtype=np.uint8)
-        if self.params.use_obstacle_layer:
-            size_x, size_y = self._master.size_x, self._master.size_y
-            cx0, cy0, cx1, cy1 = max(ix0, 0), max(iy0, 0), min(ix1, size_x), min(iy1, size_y)
-            if cx0 < cx1 and cy0 < cy1:
-                view = combined[cy0 - iy0 : cy1 - iy0, cx0 - ix0 : cx1 - ix0]
-                np.maximum(view, self.obstacle_layer.grid.data[cy0:cy1, cx0:cx1], out=view)
-        return combined
+def _merge_rect(rects: list[Bounds], rect: Bounds, margin: int) -> list[Bounds]:
+    """Add ``rect`` to ``rects``, merged with those whose bounding box costs less to refresh.
+
+    Refreshing a rectangle reads it grown by ``margin`` on every side; two rectangles are
+    refreshed as their bounding box when that reads no more cells than both apart. Overlapping
+    rectangles that stay apart are refreshed twice where they overlap, which is harmless.
+    """
+
+    def cost(r: Bounds) -> int:
+        return (r[2] - r[0] + 2 * margin) * (r[3] - r[1] + 2 * margin)
+
+    merged = rect
+    grew = True
+    while grew:
+        grew = False
+        apart = []
+        for other in rects:
+            box = union_bounds(merged, other) or merged
+            if cost(box) <= cost(merged) + cost(other):
+                merged = box
+                grew = True
+            else:
+                apart.append(other)
+        rects = apart
+    return [*rects, merged]

@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from baobab.nav.costmap import (
@@ -22,6 +21,12 @@ from baobab.nav.costmap import (
     LETHAL_OBSTACLE,
     MAX_NON_OBSTACLE,
     Costmap2D,
+)
+from baobab.nav.costmap_kernels import (
+    cell_thresholds,
+    inflation_costs,
+    shift_grid,
+    trace_scan,
 )
 from baobab.sim.lidar import LaserScan
 from baobab.sim.world import Box, Cylinder, World
@@ -74,6 +79,8 @@ class StaticLayer:
             self._rasterise_box(box)
         for cylinder in world.cylinders:
             self._rasterise_cylinder(cylinder)
+        self._inflated_key: tuple[bytes, int] | None = None
+        self._inflated = np.empty((0, 0), dtype=np.uint8)
 
     @property
     def size_x(self) -> int:
@@ -100,6 +107,22 @@ class StaticLayer:
         if sx0 < sx1 and sy0 < sy1:
             out[sy0 - iy0 : sy1 - iy0, sx0 - ix0 : sx1 - ix0] = self.raster[sy0:sy1, sx0:sx1]
         return out
+
+    def inflation_costs(self, table: np.ndarray, reach: int) -> np.ndarray:
+        """The raster's own inflation costs (cells beyond it lethal), computed once per table.
+
+        Args:
+            table: cost by squared cell distance (see :meth:`InflationLayer.cost_table`).
+            reach: cells beyond which the table is free.
+        """
+        key = (table.tobytes(), reach)
+        if self._inflated_key != key:
+            pad = reach + 1
+            lethal = np.pad(self.raster == LETHAL_OBSTACLE, pad, constant_values=True)
+            costs = inflation_costs(lethal, reach, table)
+            self._inflated = np.ascontiguousarray(costs[pad:-pad, pad:-pad])
+            self._inflated_key = key
+        return self._inflated
 
     def _cell_window(
         self, x0: float, y0: float, x1: float, y1: float
@@ -167,7 +190,8 @@ class ObstacleLayer:
     Per scan, every beam first clears the cells from the sensor up to its hit (the hit cell
     itself excluded) or, for a beam that hit nothing, up to ``raytrace_max_range``; then every
     hit closer than ``obstacle_max_range`` marks its cell lethal. So an obstacle that appears
-    is marked and one that leaves is cleared by the beams that now pass through.
+    is marked and one that leaves is cleared by the beams that now pass through. A beam is
+    sampled every half cell; the cells of its samples are the cells it crosses.
 
     Args:
         grid: the layer's own cells; its geometry is the costmap's.
@@ -177,25 +201,39 @@ class ObstacleLayer:
     def __init__(self, grid: Costmap2D, params: ObstacleParams | None = None) -> None:
         self.grid = grid
         self.params = params or ObstacleParams()
+        cells = grid.size_x * grid.size_y
+        self._touched = np.zeros(grid.data.shape, dtype=np.uint8)
+        self._changed_index = np.empty(cells, dtype=np.int64)
+        self._changed_old = np.empty(cells, dtype=np.uint8)
+        self._changed_count = 0
+        self._bounds = np.zeros(4, dtype=np.int64)
+        self._threshold_x = cell_thresholds(grid.size_x, grid.resolution)
+        self._threshold_y = cell_thresholds(grid.size_y, grid.resolution)
+        self._samples_start = max(self.params.raytrace_min_range, 0.0)
+        self._samples_step = grid.resolution / 2
+        self._samples = np.arange(
+            self._samples_start, self.params.raytrace_max_range, self._samples_step
+        )
+        self._angles_key: tuple[float, float, int] | None = None
+        self._angles = np.empty(0)
+
+    @property
+    def last_changes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Cells the last :meth:`add_scan` changed: indices ``iy * size_x + ix``, old values."""
+        count = self._changed_count
+        return self._changed_index[:count], self._changed_old[:count]
 
     def reset(self) -> None:
         """Forget every obstacle (Nav2's clear-costmap service on this layer)."""
         self.grid.data[:] = FREE_SPACE
+        self._changed_count = 0
 
     def shift(self, dix: int, diy: int) -> None:
         """Move the grid by whole cells (rolling window); cells entering the window are free."""
-        data = self.grid.data
-        moved = np.full_like(data, FREE_SPACE)
-        ny, nx = data.shape
-        src_x = slice(max(dix, 0), min(nx + dix, nx))
-        dst_x = slice(max(-dix, 0), min(nx - dix, nx))
-        src_y = slice(max(diy, 0), min(ny + diy, ny))
-        dst_y = slice(max(-diy, 0), min(ny - diy, ny))
-        if src_x.start < src_x.stop and src_y.start < src_y.stop:
-            moved[dst_y, dst_x] = data[src_y, src_x]
-        data[:] = moved
+        shift_grid(self.grid.data, dix, diy, FREE_SPACE)
         self.grid.origin_x += dix * self.grid.resolution
         self.grid.origin_y += diy * self.grid.resolution
+        self._changed_count = 0
 
     def add_scan(self, scan: LaserScan) -> Bounds | None:
         """Clear along every beam, then mark the hits.
@@ -206,119 +244,46 @@ class ObstacleLayer:
         """
         p = self.params
         grid = self.grid
-        ranges = np.asarray(scan.ranges, dtype=float)
+        self._changed_count = 0
+        ranges = np.ascontiguousarray(scan.ranges, dtype=np.float64)
         if ranges.size == 0:
             return None
         pose = scan.sensor_pose
-        headings = pose.yaw + scan.angles
-        lower = max(scan.range_min, 0.0)
-        valid = ~np.isnan(ranges) & (ranges >= lower)
-        hit = valid & np.isfinite(ranges)
-        clear_to = np.where(hit, np.minimum(ranges, p.raytrace_max_range), p.raytrace_max_range)
-        clear_to = np.where(valid, clear_to, 0.0)
-        mark = hit & (ranges < p.obstacle_max_range) & (ranges >= p.obstacle_min_range)
-        # Clear: sample each beam every half cell from the sensor to its clearing length.
-        t = np.arange(
-            max(p.raytrace_min_range, 0.0), float(clear_to.max(initial=0.0)), grid.resolution / 2
-        )
-        bounds = np.zeros(4, dtype=np.int64)
-        changed = _trace_scan(
+        # Beam angles depend on these three numbers only: reuse them from scan to scan.
+        key = (scan.angle_min, scan.angle_increment, ranges.size)
+        if key != self._angles_key:
+            self._angles_key, self._angles = key, scan.angles
+        headings = pose.yaw + self._angles
+        count = trace_scan(
             grid.data,
+            self._touched,
+            self._changed_index,
+            self._changed_old,
+            self._threshold_x,
+            self._threshold_y,
             grid.origin_x,
             grid.origin_y,
             grid.resolution,
             pose.x,
             pose.y,
+            headings,
             np.cos(headings),
             np.sin(headings),
-            np.where(hit, ranges, 0.0),
-            hit,
-            mark,
-            clear_to,
-            t,
-            bounds,
+            ranges,
+            max(scan.range_min, 0.0),
+            p.obstacle_min_range,
+            p.obstacle_max_range,
+            p.raytrace_max_range,
+            self._samples,
+            self._samples_start,
+            self._samples_step,
+            self._bounds,
         )
-        if not changed:
+        self._changed_count = count
+        if count == 0:
             return None
+        bounds = self._bounds
         return (int(bounds[0]), int(bounds[1]), int(bounds[2]), int(bounds[3]))
-
-
-@numba.njit(cache=True, nogil=True)
-def _trace_scan(
-    data: np.ndarray,
-    origin_x: float,
-    origin_y: float,
-    resolution: float,
-    x: float,
-    y: float,
-    cos_h: np.ndarray,
-    sin_h: np.ndarray,
-    hit_range: np.ndarray,
-    hit: np.ndarray,
-    mark: np.ndarray,
-    clear_to: np.ndarray,
-    t: np.ndarray,
-    bounds: np.ndarray,
-) -> bool:  # pragma: no cover - compiled
-    """Clear every beam's cells up to ``clear_to`` (the hit cell excluded), then mark the hits.
-
-    Writes the bounds ``(ix0, iy0, ix1, iy1)`` of the cells whose value changed into
-    ``bounds`` and returns whether any did. A cell cleared by one beam and marked again by
-    another keeps its value and does not count as changed.
-    """
-    height, width = data.shape
-    beams = cos_h.shape[0]
-    end_x = np.empty(beams, dtype=np.int64)
-    end_y = np.empty(beams, dtype=np.int64)
-    for b in range(beams):
-        end_x[b] = int(np.floor((x + cos_h[b] * hit_range[b] - origin_x) / resolution))
-        end_y[b] = int(np.floor((y + sin_h[b] * hit_range[b] - origin_y) / resolution))
-    # The window every touched cell lies in: its old values decide what changed.
-    reach = 0.0
-    for b in range(beams):
-        reach = max(reach, clear_to[b])
-        if mark[b]:
-            reach = max(reach, hit_range[b])
-    wx0 = max(int(np.floor((x - reach - origin_x) / resolution)) - 1, 0)
-    wy0 = max(int(np.floor((y - reach - origin_y) / resolution)) - 1, 0)
-    wx1 = min(int(np.floor((x + reach - origin_x) / resolution)) + 2, width)
-    wy1 = min(int(np.floor((y + reach - origin_y) / resolution)) + 2, height)
-    if wx0 >= wx1 or wy0 >= wy1:
-        return False
-    before = data[wy0:wy1, wx0:wx1].copy()
-    for b in range(beams):
-        entered = False
-        for k in range(t.shape[0]):
-            if not t[k] < clear_to[b]:
-                break
-            ix = int(np.floor((x + cos_h[b] * t[k] - origin_x) / resolution))
-            iy = int(np.floor((y + sin_h[b] * t[k] - origin_y) / resolution))
-            if ix < 0 or ix >= width or iy < 0 or iy >= height:
-                if entered:
-                    break  # a ray leaves a rectangle once
-                continue
-            entered = True
-            if hit[b] and ix == end_x[b] and iy == end_y[b]:
-                continue
-            data[iy, ix] = FREE_SPACE
-    for b in range(beams):
-        ix, iy = end_x[b], end_y[b]
-        if mark[b] and 0 <= ix < width and 0 <= iy < height:
-            data[iy, ix] = LETHAL_OBSTACLE
-    changed = False
-    for j in range(wy1 - wy0):
-        for i in range(wx1 - wx0):
-            if data[wy0 + j, wx0 + i] != before[j, i]:
-                gx, gy = wx0 + i, wy0 + j
-                if not changed:
-                    bounds[0], bounds[1], bounds[2], bounds[3] = gx, gy, gx + 1, gy + 1
-                    changed = True
-                else:
-                    bounds[0] = min(bounds[0], gx)
-                    bounds[1] = min(bounds[1], gy)
-                    bounds[2] = max(bounds[2], gx + 1)
-                    bounds[3] = max(bounds[3], gy + 1)
-    return changed
 
 
 @dataclass(frozen=True)
@@ -335,15 +300,17 @@ class InflationLayer:
 
     For the distance ``d`` (m) between cell centres: 254 at ``d = 0``, 253 for
     ``d <= inscribed_radius``, ``floor(252 * exp(-k * (d - inscribed_radius)))`` up to
-    ``inflation_radius``, 0 beyond. Distances are exact Euclidean distance transforms
-    (Felzenszwalb and Huttenlocher's two-pass algorithm, compiled), the same numbers as
-    ``scipy.ndimage.distance_transform_edt`` in a fraction of its time.
+    ``inflation_radius``, 0 beyond. Distances are exact (compiled, separable: the vertical
+    distance to the nearest lethal cell of each column, then the nearest over the columns
+    within the inflation radius), the same numbers as ``scipy.ndimage.distance_transform_edt``.
     """
 
     def __init__(self, params: InflationParams | None = None) -> None:
         self.params = params or InflationParams()
         self._table: np.ndarray | None = None
         self._table_resolution = 0.0
+        self._reach = 0
+        self._monotone = True
 
     def cost_of_distance(self, distance: np.ndarray) -> np.ndarray:
         """Inflation cost (``uint8``) at the given distances (m) from the nearest lethal cell."""
@@ -359,87 +326,35 @@ class InflationLayer:
         """Inflation cost of every cell of a window given its lethal cells (bool array)."""
         if not lethal.any():
             return np.zeros(lethal.shape, dtype=np.uint8)
-        # Squared distances between cell centres are whole numbers of cells squared, so the
-        # cost is a table lookup instead of an exp() per cell.
-        return _inflation_costs(np.ascontiguousarray(lethal), self._cost_table(resolution))
+        table, reach = self.cost_table(resolution)
+        return inflation_costs(np.ascontiguousarray(lethal), reach, table)
 
-    def _cost_table(self, resolution: float) -> np.ndarray:
-        """Cost by squared cell distance, zero from the first square beyond the radius."""
+    def cost_table(self, resolution: float) -> tuple[np.ndarray, int]:
+        """Cost by squared cell distance, and the reach (cells) beyond which the cost is free.
+
+        Squared distances between cell centres are whole numbers of cells squared, so the cost
+        is a table lookup instead of an exp() per cell. The table's last entry, the first
+        square beyond :meth:`margin_cells`, is free and stands for every larger distance; so
+        is every entry beyond ``reach^2``.
+        """
         if self._table is None or self._table_resolution != resolution:
-            reach = self.margin_cells(resolution) + 1
-            squared = np.arange(reach * reach + 1)
-            self._table = self.cost_of_distance(np.sqrt(squared) * resolution)
-            self._table[-1] = FREE_SPACE
+            margin = self.margin_cells(resolution)
+            squared = np.arange((margin + 1) ** 2 + 1)
+            table = self.cost_of_distance(np.sqrt(squared) * resolution)
+            table[-1] = FREE_SPACE
+            # reach: the least r with r^2 >= every squared distance of non-zero cost.
+            farthest = int(np.flatnonzero(table)[-1])
+            reach = math.isqrt(farthest - 1) + 1 if farthest > 0 else 0
+            self._table, self._reach = table, min(reach, margin)
+            self._monotone = bool(np.all(np.diff(table.astype(np.int64)) <= 0))
             self._table_resolution = resolution
-        return self._table
+        return self._table, self._reach
+
+    def cost_falls_with_distance(self, resolution: float) -> bool:
+        """Whether the cost table never rises with the distance (true for positive scaling)."""
+        self.cost_table(resolution)
+        return self._monotone
 
     def margin_cells(self, resolution: float) -> int:
         """How many cells a lethal cell's inflation reaches."""
         return math.ceil(self.params.inflation_radius / resolution - 1e-9)
-
-
-@numba.njit(cache=True, nogil=True)
-def _inflation_costs(lethal: np.ndarray, table: np.ndarray) -> np.ndarray:  # pragma: no cover
-    """``table[d2]`` per cell, ``d2`` the squared distance (cells) to the nearest lethal cell.
-
-    Squared distances at or beyond the table's last index read its last entry. The exact
-    squared Euclidean distance transform is separable: first the distance to the nearest
-    lethal cell in each column, then per row the lower envelope of the parabolas
-    ``(x - k)^2 + column[k]^2`` (Felzenszwalb & Huttenlocher, 2012).
-    """
-    h, w = lethal.shape
-    far = h * h + w * w + 1  # more than any squared distance on the grid
-    column = np.empty((h, w), dtype=np.int64)
-    for j in range(w):
-        d = far
-        for i in range(h):
-            if lethal[i, j]:
-                d = 0
-            elif d < far:
-                d += 1
-            column[i, j] = d
-        d = far
-        for i in range(h - 1, -1, -1):
-            if lethal[i, j]:
-                d = 0
-            elif d < far:
-                d += 1
-            if d < column[i, j]:
-                column[i, j] = d
-    last = table.shape[0] - 1
-    out = np.empty((h, w), dtype=np.uint8)
-    sites = np.empty(w, dtype=np.int64)
-    bounds = np.empty(w + 1, dtype=np.float64)
-    for i in range(h):
-        count = 0
-        for k in range(w):
-            gk = column[i, k]
-            if gk >= far:
-                continue
-            fk = gk * gk + k * k
-            while count > 0:
-                q = sites[count - 1]
-                s = (fk - (column[i, q] * column[i, q] + q * q)) / (2.0 * (k - q))
-                if s > bounds[count - 1]:
-                    break
-                count -= 1
-            if count == 0:
-                bounds[0] = -np.inf
-            else:
-                q = sites[count - 1]
-                bounds[count] = (fk - (column[i, q] * column[i, q] + q * q)) / (2.0 * (k - q))
-            sites[count] = k
-            count += 1
-        if count == 0:
-            for j in range(w):
-                out[i, j] = table[last]
-            continue
-        bounds[count] = np.inf
-        c = 0
-        for j in range(w):
-            while bounds[c + 1] < j:
-                c += 1
-            q = sites[c]
-            d2 = (j - q) * (j - q) + column[i, q] * column[i, q]
-            out[i, j] = table[min(d2, last)]
-    return out
