@@ -28,6 +28,35 @@ from py_trees.behaviour import Behaviour
 Status = py_trees.common.Status
 Clock = Callable[[], float]
 """Returns the sim time (s)."""
+_STATUSES = frozenset(Status)
+
+
+class Leaf(Behaviour):
+    """A py_trees leaf with the same lifecycle and less overhead per tick.
+
+    ``tick`` and ``stop`` do what :class:`py_trees.behaviour.Behaviour`'s do (initialise when
+    not running, update, stop on a finished status, then record it) without formatting debug
+    messages nobody reads or listing the status enum on every tick; the leaves tick at 20 Hz.
+    """
+
+    def tick(self) -> Iterator[Behaviour]:
+        """Initialise if not running, update, stop when finished; yields itself."""
+        if self.status is not Status.RUNNING:
+            self.initialise()
+        new_status = self.update()
+        if new_status not in _STATUSES:
+            self.logger.error(f"invalid status [{new_status}][{self.name}], setting INVALID")
+            new_status = Status.INVALID
+        if new_status is not Status.RUNNING:
+            self.stop(new_status)
+        self.status = new_status
+        yield self
+
+    def stop(self, new_status: Status) -> None:
+        """Terminate with ``new_status`` and record it (py_trees' ``stop`` without the log)."""
+        self.terminate(new_status)
+        self.status = new_status
+        self.iterator = self.tick()
 
 
 def _reset(children: Sequence[Behaviour]) -> None:
@@ -269,7 +298,7 @@ class RateController(py_trees.decorators.Decorator):
         return self.status
 
 
-class Condition(Behaviour):
+class Condition(Leaf):
     """A leaf that returns SUCCESS when ``predicate()`` holds, else FAILURE."""
 
     def __init__(self, name: str, predicate: Callable[[], bool]) -> None:

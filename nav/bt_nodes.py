@@ -16,10 +16,9 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 import py_trees
-from py_trees.behaviour import Behaviour
 
 from baobab.nav.behaviors import Behavior
-from baobab.nav.bt import Clock
+from baobab.nav.bt import Clock, Leaf
 from baobab.nav.controller_server import PathFollower
 from baobab.nav.errors import NavigationError, reported_error_code
 from baobab.nav.path import Path
@@ -138,7 +137,7 @@ class NavigationContext:
         return next((o for o in self.errors.values() if o.error_code == code), None)
 
 
-class _ContextLeaf(Behaviour):
+class _ContextLeaf(Leaf):
     def __init__(self, name: str, context: NavigationContext) -> None:
         super().__init__(name=name)
         self.context = context

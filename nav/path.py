@@ -73,9 +73,9 @@ class Path:
         x, y, yaw = self.poses[index]
         return Pose2D(x=float(x), y=float(y), yaw=float(yaw))
 
-    @property
+    @cached_property
     def goal(self) -> Pose2D:
-        """The last pose."""
+        """The last pose (made once: the poses cannot change)."""
         return self.pose(-1)
 
     def length(self, start_index: int = 0) -> float:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from baobab.nav.costmap import (
@@ -163,18 +164,59 @@ class GlobalPlanner:
         The goal's own cell comes first whenever it is open, even when its centre is farther
         from the goal point than a neighbour's.
         """
-        res = costmap.resolution
         gx, gy = costmap.world_to_map(goal.x, goal.y) or (0, 0)
-        reach = math.ceil(self.params.tolerance / res) + 1
-        x0, x1 = max(gx - reach, 0), min(gx + reach + 1, costmap.size_x)
-        y0, y1 = max(gy - reach, 0), min(gy + reach + 1, costmap.size_y)
-        iy, ix = np.mgrid[y0:y1, x0:x1]
-        cx, cy = costmap.map_to_world_array(ix, iy)
-        distance = np.hypot(cx - goal.x, cy - goal.y)
-        distance[(ix == gx) & (iy == gy)] = -1.0
-        usable = (distance <= self.params.tolerance) & (self.weights[grid[y0:y1, x0:x1]] > 0)
-        order = np.lexsort((iy[usable], ix[usable], distance[usable]))
-        return np.column_stack([ix[usable][order], iy[usable][order]])
+        return _goal_candidates(
+            grid,
+            self.weights,
+            gx,
+            gy,
+            goal.x,
+            goal.y,
+            costmap.origin_x,
+            costmap.origin_y,
+            costmap.resolution,
+            self.params.tolerance,
+        )
+
+
+@numba.njit(cache=True, nogil=True)
+def _goal_candidates(
+    grid: np.ndarray,
+    weights: np.ndarray,
+    gx: int,
+    gy: int,
+    goal_x: float,
+    goal_y: float,
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+    tolerance: float,
+) -> np.ndarray:  # pragma: no cover - compiled
+    """Open cells ``(ix, iy)`` within ``tolerance`` (m) of the goal, ordered by distance, then
+    ``ix``, then ``iy``; the goal's own cell ``(gx, gy)`` counts as distance -1."""
+    size_y, size_x = grid.shape
+    reach = math.ceil(tolerance / resolution) + 1
+    x0, x1 = max(gx - reach, 0), min(gx + reach + 1, size_x)
+    y0, y1 = max(gy - reach, 0), min(gy + reach + 1, size_y)
+    count = max(x1 - x0, 0) * max(y1 - y0, 0)
+    cells = np.empty((count, 2), np.int64)
+    distances = np.empty(count)
+    found = 0
+    # Columns outer, rows inner: a stable sort by distance then orders ties by ix, then iy.
+    for ix in range(x0, x1):
+        for iy in range(y0, y1):
+            if ix == gx and iy == gy:
+                distance = -1.0
+            else:
+                cx = origin_x + (ix + 0.5) * resolution
+                cy = origin_y + (iy + 0.5) * resolution
+                distance = math.hypot(cx - goal_x, cy - goal_y)
+            if distance <= tolerance and weights[grid[iy, ix]] > 0:
+                cells[found, 0], cells[found, 1] = ix, iy
+                distances[found] = distance
+                found += 1
+    order = np.argsort(distances[:found], kind="mergesort")
+    return cells[:found][order]
 
 
 def step_weights(cost_travel_multiplier: float, allow_unknown: bool) -> np.ndarray:

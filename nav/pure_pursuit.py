@@ -15,6 +15,8 @@ Per control cycle (:meth:`RegulatedPurePursuit.compute_velocity`):
    ``max_allowed_time_to_collision_up_to_carrot``); a projected collision raises
    :class:`~baobab.nav.errors.CollisionAheadError` (Nav2: NO_VALID_CONTROL).
 
+The cycle runs as one compiled call (:mod:`baobab.nav.rpp_kernel`).
+
 Nav2's defaults are kept except where the Burger's limits demand otherwise: 0.22 m/s,
 2.84 rad/s, and ``regulated_linear_scaling_min_speed`` scaled like the top speed (0.25 m/s of
 0.5 m/s becomes 0.11 m/s of 0.22 m/s).
@@ -25,12 +27,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
-from baobab.nav.costmap import FREE_SPACE, MAX_NON_OBSTACLE, NO_INFORMATION, Costmap2D
+from baobab.nav import rpp_kernel as kernel
+from baobab.nav.costmap import Costmap2D
 from baobab.nav.errors import CollisionAheadError, FollowPathError, NavigationError
-from baobab.nav.footprint import in_collision
 from baobab.nav.path import Path
 from baobab.sim.world import Pose2D
 
@@ -80,6 +81,8 @@ class RegulatedPurePursuit:
 
     def __init__(self, params: RegulatedPurePursuitParams | None = None) -> None:
         self.params = params or RegulatedPurePursuitParams()
+        self._settings = settings_array(self.params)
+        self._out = np.zeros(kernel.OUT_SIZE)
         self._path: Path | None = None
         self._along = np.zeros(1)
         self.closest_index = 0
@@ -110,213 +113,81 @@ class RegulatedPurePursuit:
             NavigationError: INVALID_PATH for an empty path or none of it near the robot.
             CollisionAheadError: the projected motion up to the carrot collides.
         """
-        p = self.params
-        local = self._transform_plan(pose, path, costmap)
-        lookahead = self._lookahead_distance(velocity[0])
-        carrot = self._carrot(local, lookahead)
-        cos_yaw, sin_yaw = math.cos(pose.yaw), math.sin(pose.yaw)
-        self.last_carrot = (
-            pose.x + cos_yaw * carrot[0] - sin_yaw * carrot[1],
-            pose.y + sin_yaw * carrot[0] + cos_yaw * carrot[1],
-        )
-        carrot_dist = math.hypot(carrot[0], carrot[1])
-        angle_to_path = math.atan2(carrot[1], carrot[0])
-        if p.use_rotate_to_heading and carrot_dist < p.goal_dist_tol:
-            linear, angular = self._rotate_to(float(local[-1, 2]), velocity[1])
-        elif p.use_rotate_to_heading and abs(angle_to_path) > p.rotate_to_heading_min_angle:
-            linear, angular = self._rotate_to(angle_to_path, velocity[1])
-        else:
-            curvature = 2.0 * carrot[1] / carrot_dist**2 if carrot_dist**2 > 0.001 else 0.0
-            linear = self._regulated_speed(curvature, costmap.cost(pose.x, pose.y), local, costmap)
-            angular = linear * curvature
-        angular = _clamp(angular, -p.max_angular_vel, p.max_angular_vel)
-        if p.use_collision_detection and self._collision_imminent(
-            pose, linear, angular, carrot_dist, costmap
-        ):
-            raise CollisionAheadError(
-                f"projected motion ({linear:.2f} m/s, {angular:.2f} rad/s) from "
-                f"({pose.x:.2f}, {pose.y:.2f}) collides before the carrot"
-            )
-        return linear, angular
-
-    def _transform_plan(self, pose: Pose2D, path: Path, costmap: Costmap2D) -> np.ndarray:
-        """Unpassed poses within the costmap's half extent, in the robot frame (x, y, yaw)."""
         if len(path) == 0:
             raise NavigationError(FollowPathError.INVALID_PATH, "the path has no poses")
         if path is not self._path:
             self._path = path
             self.closest_index = 0
             self._along = path.cumulative_lengths
-        extent = max(costmap.size_x, costmap.size_y) * costmap.resolution / 2
-        search_dist = self.params.max_robot_pose_search_dist or extent
-        self.closest_index, local = _transform_kernel(
+        x, y = pose.x, pose.y
+        status = kernel.rpp_step(
             path.poses,
             self._along,
             self.closest_index,
-            pose.x,
-            pose.y,
+            x,
+            y,
             pose.yaw,
-            search_dist,
-            extent,
+            velocity[0],
+            velocity[1],
+            costmap.data,
+            costmap.origin_x,
+            costmap.origin_y,
+            costmap.resolution,
+            costmap.inscribed_radius,
+            self._settings,
+            self._out,
         )
-        if len(local) == 0:
+        closest, linear, angular, carrot_x, carrot_y, extent = self._out.tolist()
+        self.closest_index = int(closest)
+        if status == kernel.NO_POSE_NEAR:
             raise NavigationError(
                 FollowPathError.INVALID_PATH,
-                f"no path pose within {extent:.2f} m of ({pose.x:.2f}, {pose.y:.2f})",
+                f"no path pose within {extent:.2f} m of ({x:.2f}, {y:.2f})",
             )
-        return local
-
-    def _lookahead_distance(self, speed: float) -> float:
-        p = self.params
-        if not p.use_velocity_scaled_lookahead_dist:
-            return p.lookahead_dist
-        return _clamp(abs(speed) * p.lookahead_time, p.min_lookahead_dist, p.max_lookahead_dist)
-
-    def _carrot(self, local: np.ndarray, lookahead: float) -> tuple[float, float]:
-        """The point of the path at the lookahead distance from the robot (the origin)."""
-        index = _first_beyond(local, lookahead)
-        if index < 0:
-            return float(local[-1, 0]), float(local[-1, 1])
-        if index == 0 or not self.params.use_interpolation:
-            return float(local[index, 0]), float(local[index, 1])
-        return _circle_segment_intersection(local[index - 1, :2], local[index, :2], lookahead)
-
-    def _rotate_to(self, angle: float, angular_speed: float) -> tuple[float, float]:
-        """Rotate in place towards ``angle`` (rad), within the acceleration and stopping limits."""
-        p = self.params
-        sign = 1.0 if angle > 0.0 else -1.0
-        dt = 1.0 / p.controller_frequency
-        angular = sign * p.rotate_to_heading_angular_vel
-        angular = _clamp(
-            angular,
-            angular_speed - p.max_angular_accel * dt,
-            angular_speed + p.max_angular_accel * dt,
-        )
-        stop_speed = math.sqrt(2.0 * p.max_angular_accel * abs(angle))
-        if abs(angular) > stop_speed:
-            angular = sign * stop_speed
-        return 0.0, angular
-
-    def _regulated_speed(
-        self, curvature: float, pose_cost: int, local: np.ndarray, costmap: Costmap2D
-    ) -> float:
-        """Desired speed lowered for curvature, nearby obstacles and the goal approach."""
-        p = self.params
-        speed = p.desired_linear_vel
-        curvature_speed, cost_speed = speed, speed
-        if p.use_regulated_linear_velocity_scaling and curvature != 0.0:
-            radius = abs(1.0 / curvature)
-            if radius < p.regulated_linear_scaling_min_radius:
-                curvature_speed = speed * radius / p.regulated_linear_scaling_min_radius
-        if p.use_cost_regulated_linear_velocity_scaling and pose_cost not in (
-            NO_INFORMATION,
-            FREE_SPACE,
-        ):
-            # Invert the inflation formula: the distance to the nearest obstacle.
-            distance = (-1.0 / p.inflation_cost_scaling_factor) * math.log(
-                pose_cost / MAX_NON_OBSTACLE
-            ) + costmap.inscribed_radius
-            if distance < p.cost_scaling_dist:
-                cost_speed = speed * p.cost_scaling_gain * distance / p.cost_scaling_dist
-        speed = max(min(curvature_speed, cost_speed), p.regulated_linear_scaling_min_speed)
-        # Approach: once the remaining path is short, scale with the distance to its end.
-        steps = local[1:, :2] - local[:-1, :2]  # np.diff's result, without its overhead
-        remaining = float(np.hypot(steps[:, 0], steps[:, 1]).sum())
-        if remaining < p.approach_velocity_scaling_dist:
-            scaling = math.hypot(local[-1, 0], local[-1, 1]) / p.approach_velocity_scaling_dist
-            speed = min(speed, max(speed * scaling, p.min_approach_linear_velocity))
-        return _clamp(speed, 0.0, p.desired_linear_vel)
-
-    def _collision_imminent(
-        self, pose: Pose2D, linear: float, angular: float, carrot_dist: float, costmap: Costmap2D
-    ) -> bool:
-        """Nav2's projection: step the command ahead until the carrot or the time limit."""
-        if in_collision(costmap, pose.x, pose.y):
-            return True
-        if abs(linear) < 0.01:
-            # A circular robot turning in place sweeps no new cells.
-            return False
-        dt = costmap.resolution / abs(linear)
-        x, y, yaw = pose.x, pose.y, pose.yaw
-        i = 1
-        while i * dt < self.params.max_allowed_time_to_collision_up_to_carrot:
-            i += 1
-            x += dt * linear * math.cos(yaw)
-            y += dt * linear * math.sin(yaw)
-            yaw += dt * angular
-            if math.hypot(x - pose.x, y - pose.y) > carrot_dist:
-                break
-            if in_collision(costmap, x, y):
-                return True
-        return False
+        self.last_carrot = (carrot_x, carrot_y)
+        if status == kernel.COLLISION_AHEAD:
+            raise CollisionAheadError(
+                f"projected motion ({linear:.2f} m/s, {angular:.2f} rad/s) from "
+                f"({x:.2f}, {y:.2f}) collides before the carrot"
+            )
+        return linear, angular
 
 
-@numba.njit(cache=True, nogil=True)
-def _first_beyond(local: np.ndarray, distance: float) -> int:  # pragma: no cover - compiled
-    """Index of the first row of ``local`` at least ``distance`` (m) from the origin, or -1."""
-    for index in range(local.shape[0]):
-        if math.hypot(local[index, 0], local[index, 1]) >= distance:
-            return index
-    return -1
-
-
-@numba.njit(cache=True, nogil=True)
-def _transform_kernel(
-    poses: np.ndarray,
-    along: np.ndarray,
-    begin: int,
-    x: float,
-    y: float,
-    yaw: float,
-    search_dist: float,
-    extent: float,
-) -> tuple[int, np.ndarray]:  # pragma: no cover - compiled
-    """The closest pose and the robot-frame poses after it, up to the first beyond ``extent``.
-
-    The closest pose is searched from ``begin`` over ``search_dist`` (m) of path length
-    (``along`` holds the cumulative length at each pose); the first of equally close poses
-    wins. The returned ``(N, 3)`` rows are ``x, y`` (m) in the robot frame and the heading
-    relative to the robot's, wrapped to ``[-pi, pi)``.
-    """
-    n = poses.shape[0]
-    limit = along[begin] + search_dist
-    closest, best = begin, math.inf
-    k = begin
-    while k < n and (k == begin or along[k] <= limit):
-        distance = math.hypot(poses[k, 0] - x, poses[k, 1] - y)
-        if distance < best:
-            closest, best = k, distance
-        k += 1
-    end = closest
-    while end < n and math.hypot(poses[end, 0] - x, poses[end, 1] - y) <= extent:
-        end += 1
-    cos_yaw, sin_yaw = math.cos(yaw), math.sin(yaw)
-    local = np.empty((end - closest, 3))
-    for i in range(end - closest):
-        dx, dy = poses[closest + i, 0] - x, poses[closest + i, 1] - y
-        local[i, 0] = cos_yaw * dx + sin_yaw * dy
-        local[i, 1] = -sin_yaw * dx + cos_yaw * dy
-        local[i, 2] = (poses[closest + i, 2] - yaw + math.pi) % (2 * math.pi) - math.pi
-    return closest, local
-
-
-def _clamp(value: float, low: float, high: float) -> float:
-    """``value`` limited to ``[low, high]`` (``np.clip`` costs microseconds on scalars)."""
-    return float(min(max(value, low), high))
-
-
-def _circle_segment_intersection(
-    p1: np.ndarray, p2: np.ndarray, radius: float
-) -> tuple[float, float]:
-    """Where segment ``p1 -> p2`` (``p1`` inside, ``p2`` outside) leaves the origin's circle."""
-    x1, y1 = float(p1[0]), float(p1[1])
-    x2, y2 = float(p2[0]), float(p2[1])
-    dx, dy = x2 - x1, y2 - y1
-    dr2 = dx * dx + dy * dy
-    cross = x1 * y2 - x2 * y1
-    root = math.sqrt(max(radius * radius * dr2 - cross * cross, 0.0))
-    sign = math.copysign(1.0, (x2 * x2 + y2 * y2) - (x1 * x1 + y1 * y1))
-    return (
-        (cross * dy + sign * dx * root) / dr2,
-        (-cross * dx + sign * dy * root) / dr2,
+def settings_array(params: RegulatedPurePursuitParams) -> np.ndarray:
+    """``params`` as the float array :func:`~baobab.nav.rpp_kernel.rpp_step` reads."""
+    k, p = kernel, params
+    settings = np.zeros(k.SETTINGS_SIZE)
+    settings[k.DESIRED_LINEAR_VEL] = p.desired_linear_vel
+    settings[k.MAX_ANGULAR_VEL] = p.max_angular_vel
+    settings[k.LOOKAHEAD_DIST] = p.lookahead_dist
+    settings[k.MIN_LOOKAHEAD_DIST] = p.min_lookahead_dist
+    settings[k.MAX_LOOKAHEAD_DIST] = p.max_lookahead_dist
+    settings[k.LOOKAHEAD_TIME] = p.lookahead_time
+    settings[k.USE_VELOCITY_SCALED_LOOKAHEAD_DIST] = p.use_velocity_scaled_lookahead_dist
+    settings[k.USE_INTERPOLATION] = p.use_interpolation
+    settings[k.USE_ROTATE_TO_HEADING] = p.use_rotate_to_heading
+    settings[k.ROTATE_TO_HEADING_MIN_ANGLE] = p.rotate_to_heading_min_angle
+    settings[k.ROTATE_TO_HEADING_ANGULAR_VEL] = p.rotate_to_heading_angular_vel
+    settings[k.MAX_ANGULAR_ACCEL] = p.max_angular_accel
+    settings[k.USE_REGULATED_LINEAR_VELOCITY_SCALING] = p.use_regulated_linear_velocity_scaling
+    settings[k.REGULATED_LINEAR_SCALING_MIN_RADIUS] = p.regulated_linear_scaling_min_radius
+    settings[k.REGULATED_LINEAR_SCALING_MIN_SPEED] = p.regulated_linear_scaling_min_speed
+    settings[k.USE_COST_REGULATED_LINEAR_VELOCITY_SCALING] = (
+        p.use_cost_regulated_linear_velocity_scaling
     )
+    settings[k.COST_SCALING_DIST] = p.cost_scaling_dist
+    settings[k.COST_SCALING_GAIN] = p.cost_scaling_gain
+    settings[k.INFLATION_COST_SCALING_FACTOR] = p.inflation_cost_scaling_factor
+    settings[k.MIN_APPROACH_LINEAR_VELOCITY] = p.min_approach_linear_velocity
+    settings[k.APPROACH_VELOCITY_SCALING_DIST] = p.approach_velocity_scaling_dist
+    settings[k.USE_COLLISION_DETECTION] = p.use_collision_detection
+    settings[k.MAX_ALLOWED_TIME_TO_COLLISION_UP_TO_CARROT] = (
+        p.max_allowed_time_to_collision_up_to_carrot
+    )
+    settings[k.GOAL_DIST_TOL] = p.goal_dist_tol
+    settings[k.CONTROLLER_FREQUENCY] = p.controller_frequency
+    # ``max_robot_pose_search_dist or extent``: None and 0 both mean the half extent.
+    settings[k.MAX_ROBOT_POSE_SEARCH_DIST] = p.max_robot_pose_search_dist or math.nan
+    settings[k.SQUARE_EXPONENT] = 2.0
+    settings.setflags(write=False)
+    return settings

@@ -35,9 +35,17 @@ def _smooth_round(
     tolerance: float,
     max_its: int,
 ) -> tuple[int, np.ndarray]:  # pragma: no cover - compiled
+    """Sweep until converged; on a collision, the points as they were before that sweep.
+
+    The neighbours travel in registers from one point to the next (the point before was
+    just moved, the point after not yet), so a sweep waits on no memory round trip; the
+    sweep's old values are kept for the undo.
+    """
     new = data.copy()
-    last = data.copy()
     n = data.shape[0]
+    if n < 3:
+        return CONVERGED, new
+    replaced = np.empty_like(data)
     height, width = grid.shape
     change = tolerance
     its = 0
@@ -45,21 +53,29 @@ def _smooth_round(
         its += 1
         change = 0.0
         if its >= max_its:
-            return MAX_ITERATIONS, last
+            return MAX_ITERATIONS, new
+        prev_x, prev_y = new[0, 0], new[0, 1]
+        cur_x, cur_y = new[1, 0], new[1, 1]
         for i in range(1, n - 1):
-            for j in range(2):
-                before = new[i, j]
-                moved = before + w_data * (data[i, j] - before)
-                moved += w_smooth * (new[i + 1, j] + new[i - 1, j] - 2.0 * before)
-                new[i, j] = moved
-                change += abs(moved - before)
-            col = int(np.floor((new[i, 0] - origin_x) / resolution))
-            row = int(np.floor((new[i, 1] - origin_y) / resolution))
+            next_x, next_y = new[i + 1, 0], new[i + 1, 1]
+            moved_x = cur_x + w_data * (data[i, 0] - cur_x)
+            moved_x += w_smooth * (next_x + prev_x - 2.0 * cur_x)
+            change += abs(moved_x - cur_x)
+            moved_y = cur_y + w_data * (data[i, 1] - cur_y)
+            moved_y += w_smooth * (next_y + prev_y - 2.0 * cur_y)
+            change += abs(moved_y - cur_y)
+            new[i, 0], new[i, 1] = moved_x, moved_y
+            replaced[i, 0], replaced[i, 1] = cur_x, cur_y
+            col = int(np.floor((moved_x - origin_x) / resolution))
+            row = int(np.floor((moved_y - origin_y) / resolution))
             if 0 <= row < height and 0 <= col < width:
                 cost = grid[row, col]
                 if cost > MAX_NON_OBSTACLE and cost != NO_INFORMATION:
-                    return COLLISION, last
-        last[:, :] = new
+                    for k in range(1, i + 1):
+                        new[k, 0], new[k, 1] = replaced[k, 0], replaced[k, 1]
+                    return COLLISION, new
+            prev_x, prev_y = moved_x, moved_y
+            cur_x, cur_y = next_x, next_y
     return CONVERGED, new
 
 
