@@ -23,7 +23,7 @@ import mujoco
 import numpy as np
 
 from baobab.sim.builder import ROBOT_GROUP
-from baobab.sim.lidar_kernel import cast_fan, ranges_from_hits
+from baobab.sim.lidar_kernel import fan_directions, ranges_from_hits, scan_fan
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.world import Pose2D
 
@@ -106,7 +106,6 @@ class Lidar:
         self._site = sim.data.site(site)
         # Views made once: reading a MuJoCo array attribute builds a new view each time.
         self._site_xpos, self._site_xmat = self._site.xpos, self._site.xmat
-        self._site_rotation = self._site_xmat.reshape(3, 3)
         model, data = sim.model, sim.data
         self._geom_arrays = (
             data.geom_xpos,
@@ -136,9 +135,7 @@ class Lidar:
         self._distances = np.empty(beams)
         self._geomgroup = np.ones(mujoco.mjNGROUP, dtype=np.uint8)
         self._geomgroup[exclude_group] = 0
-        self._no_noise = np.empty(0)
-        self._reach = range_max + 1e-6
-        """Hits beyond this (m) may be dropped: they read inf (noiseless scanner only)."""
+        self._no_ranges = np.empty(0)
         self._subscribers: list[ScanSubscriber] = []
         self.latest: LaserScan | None = None
         """The most recent scan, or None before the first."""
@@ -157,17 +154,31 @@ class Lidar:
 
     def scan(self) -> LaserScan:
         """Cast the beams from the site's current pose and return the scan (no callbacks)."""
-        rotation = self._site_xmat
-        np.copyto(self._origin, self._site_xpos)
-        np.matmul(self._local_directions, self._site_rotation.T, out=self._directions)
-        noise = (
-            self._sim.rng.normal(0.0, self.noise_std, self.beams)
-            if self.noise_std > 0
-            else self._no_noise
-        )
-        if self.noise_std > 0 or not self._cast_fan(rotation):
+        ranges = self._no_ranges
+        if self.noise_std == 0:
+            ranges = scan_fan(
+                self._site_xpos,
+                self._site_xmat,
+                self._local_directions,
+                self._origin,
+                self._directions,
+                self.angle_min,
+                self.angle_increment,
+                *self._geom_arrays,
+                self._geomgroup,
+                self.range_min,
+                self.range_max,
+                self._distances,
+            )
+        if ranges.shape[0] == 0:  # noisy, or a geom type the compiled caster does not take
+            np.copyto(self._origin, self._site_xpos)
+            fan_directions(self._site_xmat, self._local_directions, self._directions)
+            noise = self._no_ranges
+            if self.noise_std > 0:
+                noise = self._sim.rng.normal(0.0, self.noise_std, self.beams)
             self._multi_ray()
-        ranges = ranges_from_hits(self._distances, noise, self.range_min, self.range_max)
+            ranges = ranges_from_hits(self._distances, noise, self.range_min, self.range_max)
+        rotation = self._site_xmat
         return LaserScan(
             stamp=self._sim.time,
             frame_id=self.frame_id,
@@ -182,22 +193,6 @@ class Lidar:
                 y=float(self._origin[1]),
                 yaw=math.atan2(rotation[3], rotation[0]),
             ),
-        )
-
-    def _cast_fan(self, rotation: np.ndarray) -> bool:
-        """Fill ``_distances`` with the compiled caster; False if it cannot handle the view."""
-        return bool(
-            cast_fan(
-                self._origin,
-                rotation,
-                self._directions,
-                self.angle_min,
-                self.angle_increment,
-                *self._geom_arrays,
-                self._geomgroup,
-                self._reach,
-                self._distances,
-            )
         )
 
     def _multi_ray(self) -> None:

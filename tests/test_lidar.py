@@ -13,6 +13,7 @@ from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim import Simulation
 from baobab.sim.builder import world_spec
 from baobab.sim.lidar import LaserScan, Lidar
+from baobab.sim.lidar_kernel import fan_directions
 from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World
 
 
@@ -199,3 +200,19 @@ def test_compiled_caster_equals_mj_multi_ray(world: str) -> None:
         np.testing.assert_array_equal(scan.ranges, expected)
         floor_hits += int(np.count_nonzero(np.isfinite(expected) & (geom_ids == floor)))
     assert floor_hits > 0
+
+
+def test_beam_directions_are_numpys_matmul_bit_for_bit() -> None:
+    # The compiled scanner builds the beam directions itself; they must be exactly the ones
+    # np.matmul gives (the ranges depend on every bit of them).
+    local = Lidar(build_turtlebot3_sim(_world())[0], "tb3/base_scan")._local_directions
+    rng = np.random.default_rng(2)
+    directions = np.empty_like(local)
+    for trial in range(300):
+        turn = rng.normal(0.0, 1.0, 3) * (rng.uniform(0.0, 3.0) if trial % 2 else 0.0)
+        turn[2] = rng.uniform(-4.0, 4.0)
+        rotation = Rotation.from_rotvec(turn).as_matrix()
+        fan_directions(rotation.reshape(-1), local, directions)
+        expected = local @ rotation.T
+        np.testing.assert_array_equal(directions, expected)
+        np.testing.assert_array_equal(np.signbit(directions), np.signbit(expected))
