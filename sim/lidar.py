@@ -117,6 +117,11 @@ class Lidar:
             model.geom_matid,
             model.geom_rgba,
             model.mat_rgba,
+            model.geom_aabb,
+            model.geom_bodyid,
+            model.body_bvhadr,
+            model.bvh_aabb,
+            data.xipos,
         )
         self.site_name = site
         self.frame_id = frame_id

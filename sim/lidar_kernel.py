@@ -81,6 +81,48 @@ def fan_directions(
             directions[beam, row] = _fma(z, r[2], _fma(y, r[1], x * r[0]))
 
 
+@numba.njit(cache=True, nogil=True)
+def _culled_like_mujoco(
+    geom: int,
+    geom_xpos: np.ndarray,
+    geom_size: np.ndarray,
+    geom_rbound: np.ndarray,
+    geom_type: np.ndarray,
+    geom_aabb: np.ndarray,
+    geom_bodyid: np.ndarray,
+    body_bvhadr: np.ndarray,
+    bvh_aabb: np.ndarray,
+    xipos: np.ndarray,
+) -> bool:  # pragma: no cover - compiled
+    """Whether ``mj_multiRay``'s culling volumes still hold the geom (box and cylinder only).
+
+    ``mj_multiRay`` culls with the geom's ``geom_aabb`` and its body's bounding-volume root,
+    both set when the model is compiled. A geom resized at run time (an obstacle slot) can
+    outgrow them; ``mj_multiRay`` then misses part of it, and so must the scanner.
+    """
+    kind = geom_type[geom]
+    if kind != _BOX and kind != _CYLINDER:
+        return False
+    size = geom_size[geom]
+    extent_x, extent_y = size[0], (size[1] if kind == _BOX else size[0])
+    extent_z = size[2] if kind == _BOX else size[1]
+    box = geom_aabb[geom]
+    if box[0] != 0 or box[1] != 0 or box[2] != 0:
+        return False
+    if box[3] < extent_x or box[4] < extent_y or box[5] < extent_z:
+        return False
+    body = geom_bodyid[geom]
+    node = body_bvhadr[body]
+    if node < 0:
+        return True
+    root = bvh_aabb[node]
+    dx = geom_xpos[geom, 0] - (root[0] + xipos[body, 0])
+    dy = geom_xpos[geom, 1] - (root[1] + xipos[body, 1])
+    dz = geom_xpos[geom, 2] - (root[2] + xipos[body, 2])
+    radius = math.sqrt(root[3] * root[3] + root[4] * root[4] + root[5] * root[5])
+    return math.sqrt(dx * dx + dy * dy + dz * dz) + geom_rbound[geom] <= radius - _SLACK
+
+
 @numba.njit(cache=True, nogil=True, inline="always")
 def _nearest_surface(
     kind: int, offset: np.ndarray, xmat: np.ndarray, size: np.ndarray, rbound: float
@@ -199,6 +241,11 @@ def cast_fan(
     geom_matid: np.ndarray,
     geom_rgba: np.ndarray,
     mat_rgba: np.ndarray,
+    geom_aabb: np.ndarray,
+    geom_bodyid: np.ndarray,
+    body_bvhadr: np.ndarray,
+    bvh_aabb: np.ndarray,
+    xipos: np.ndarray,
     geomgroup: np.ndarray,
     reach: float,
     best: np.ndarray,
@@ -210,14 +257,15 @@ def cast_fan(
         rotation: the sensor's rotation matrix (9,), row-major; the beams lie in its x-y plane.
         directions: the beams (n, 3), world frame; beam ``i`` is the sensor-frame unit vector
             at angle ``angle_min + i * angle_increment`` (rad) rotated by ``rotation``.
-        geom_xpos .. mat_rgba: the model's and data's arrays of the same names.
+        geom_xpos .. xipos: the model's and data's arrays of the same names.
         geomgroup: 1 for each geom group the beams see (``mjNGROUP``,).
         reach: hits farther than this (m) may be reported as misses.
         best: out (n,): distance to the nearest hit, -1 where the beam hits nothing.
 
     Returns:
         False (with ``best`` undefined) if a geom in view is of a type this caster does not
-        handle (hfield, mesh, sdf): use ``mj_multiRay`` then.
+        handle (hfield, mesh, sdf), or has outgrown the volumes ``mj_multiRay`` culls with
+        (:func:`_culled_like_mujoco`): use ``mj_multiRay`` then.
     """
     beams = directions.shape[0]
     ngeom = geom_type.shape[0]
@@ -247,6 +295,19 @@ def cast_fan(
             )
             if near > reach:
                 continue
+            if not _culled_like_mujoco(
+                geom,
+                geom_xpos,
+                geom_size,
+                geom_rbound,
+                geom_type,
+                geom_aabb,
+                geom_bodyid,
+                body_bvhadr,
+                bvh_aabb,
+                xipos,
+            ):
+                return False
         # Insertion sort, nearest first: a few dozen geoms.
         slot = count
         while slot > 0 and nearest[slot - 1] > near:
@@ -360,6 +421,11 @@ def scan_fan(
     geom_matid: np.ndarray,
     geom_rgba: np.ndarray,
     mat_rgba: np.ndarray,
+    geom_aabb: np.ndarray,
+    geom_bodyid: np.ndarray,
+    body_bvhadr: np.ndarray,
+    bvh_aabb: np.ndarray,
+    xipos: np.ndarray,
     geomgroup: np.ndarray,
     range_min: float,
     range_max: float,
@@ -388,6 +454,11 @@ def scan_fan(
         geom_matid,
         geom_rgba,
         mat_rgba,
+        geom_aabb,
+        geom_bodyid,
+        body_bvhadr,
+        bvh_aabb,
+        xipos,
         geomgroup,
         range_max + _SLACK,
         best,

@@ -216,3 +216,20 @@ def test_beam_directions_are_numpys_matmul_bit_for_bit() -> None:
         expected = local @ rotation.T
         np.testing.assert_array_equal(directions, expected)
         np.testing.assert_array_equal(np.signbit(directions), np.signbit(expected))
+
+
+def test_an_obstacle_resized_at_run_time_reads_as_mj_multi_ray_sees_it() -> None:
+    # Events grow an obstacle slot (geom_size, geom_rbound) past the culling volumes
+    # mj_multiRay uses; the scanner must still report exactly what mj_multiRay reports.
+    sim, robot = build_turtlebot3_sim("walls", Pose2D(x=1.0, y=1.0))
+    model, data = sim.model, sim.data
+    geom = model.geom("movable_0")
+    half = np.array([0.5, 0.5, 0.25])
+    geom.size[:] = half
+    model.geom_rbound[geom.id] = float(np.linalg.norm(half))
+    data.mocap_pos[model.body("movable_0").mocapid[0]] = [2.0, 2.0, 0.25]
+    mujoco.mj_forward(model, data)
+    scan = robot.lidar.scan()
+    expected, geom_ids = _multi_ray_ranges(robot.lidar)
+    np.testing.assert_array_equal(scan.ranges, expected)
+    assert np.count_nonzero(geom_ids == geom.id) > 0
