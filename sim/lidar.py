@@ -1,8 +1,10 @@
 """2D lidar: the LaserScan message shape and a ray-cast planar scanner (LDS-01 by default).
 
-The scanner casts all its beams with one ``mujoco.mj_multiRay`` call from a site, so a 360-beam
-scan costs about a hundred microseconds. Geoms of the robot carrying it (geom group
-``ROBOT_GROUP``) are invisible to it; the floor is not hit by horizontal beams.
+The scanner casts its beams from a site with the compiled caster of
+:mod:`baobab.sim.lidar_kernel`, which returns ``mujoco.mj_multiRay``'s ranges bit for bit
+(a 360-beam scan costs a few tens of microseconds); a noisy scanner, or one that sees mesh,
+height-field or sdf geoms, calls ``mj_multiRay`` itself. Geoms of the robot carrying it (geom
+group ``ROBOT_GROUP``) are invisible to it; the floor is not hit by horizontal beams.
 
 Range conventions (as the LDS-01 driver reports them): a beam that hits nothing, hits beyond
 ``range_max``, or hits closer than ``range_min`` reads ``inf``. The LDS-01 cannot measure below
@@ -21,6 +23,7 @@ import mujoco
 import numpy as np
 
 from baobab.sim.builder import ROBOT_GROUP
+from baobab.sim.lidar_kernel import fan_directions, ranges_from_hits, scan_fan
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.world import Pose2D
 
@@ -101,6 +104,25 @@ class Lidar:
             raise ValueError(f"no site named '{site}' in the model")
         self._sim = sim
         self._site = sim.data.site(site)
+        # Views made once: reading a MuJoCo array attribute builds a new view each time.
+        self._site_xpos, self._site_xmat = self._site.xpos, self._site.xmat
+        model, data = sim.model, sim.data
+        self._geom_arrays = (
+            data.geom_xpos,
+            data.geom_xmat,
+            model.geom_size,
+            model.geom_rbound,
+            model.geom_type,
+            model.geom_group,
+            model.geom_matid,
+            model.geom_rgba,
+            model.mat_rgba,
+            model.geom_aabb,
+            model.geom_bodyid,
+            model.body_bvhadr,
+            model.bvh_aabb,
+            data.xipos,
+        )
         self.site_name = site
         self.frame_id = frame_id
         self.beams = beams
@@ -118,6 +140,7 @@ class Lidar:
         self._distances = np.empty(beams)
         self._geomgroup = np.ones(mujoco.mjNGROUP, dtype=np.uint8)
         self._geomgroup[exclude_group] = 0
+        self._no_ranges = np.empty(0)
         self._subscribers: list[ScanSubscriber] = []
         self.latest: LaserScan | None = None
         """The most recent scan, or None before the first."""
@@ -136,13 +159,52 @@ class Lidar:
 
     def scan(self) -> LaserScan:
         """Cast the beams from the site's current pose and return the scan (no callbacks)."""
-        model, data = self._sim.model, self._sim.data
-        rotation = self._site.xmat.reshape(3, 3)
-        np.copyto(self._origin, self._site.xpos)
-        np.matmul(self._local_directions, rotation.T, out=self._directions)
+        ranges = self._no_ranges
+        if self.noise_std == 0:
+            ranges = scan_fan(
+                self._site_xpos,
+                self._site_xmat,
+                self._local_directions,
+                self._origin,
+                self._directions,
+                self.angle_min,
+                self.angle_increment,
+                *self._geom_arrays,
+                self._geomgroup,
+                self.range_min,
+                self.range_max,
+                self._distances,
+            )
+        if ranges.shape[0] == 0:  # noisy, or a geom type the compiled caster does not take
+            np.copyto(self._origin, self._site_xpos)
+            fan_directions(self._site_xmat, self._local_directions, self._directions)
+            noise = self._no_ranges
+            if self.noise_std > 0:
+                noise = self._sim.rng.normal(0.0, self.noise_std, self.beams)
+            self._multi_ray()
+            ranges = ranges_from_hits(self._distances, noise, self.range_min, self.range_max)
+        rotation = self._site_xmat
+        return LaserScan(
+            stamp=self._sim.time,
+            frame_id=self.frame_id,
+            angle_min=self.angle_min,
+            angle_max=self.angle_max,
+            angle_increment=self.angle_increment,
+            range_min=self.range_min,
+            range_max=self.range_max,
+            ranges=ranges,
+            sensor_pose=Pose2D(
+                x=float(self._origin[0]),
+                y=float(self._origin[1]),
+                yaw=math.atan2(rotation[3], rotation[0]),
+            ),
+        )
+
+    def _multi_ray(self) -> None:
+        """Fill ``_distances`` with ``mj_multiRay`` (-1 where a beam hits nothing)."""
         mujoco.mj_multiRay(
-            model,
-            data,
+            self._sim.model,
+            self._sim.data,
             self._origin,
             self._directions.reshape(-1),
             self._geomgroup,
@@ -154,24 +216,7 @@ class Lidar:
             self.beams,
             self.range_max,
         )
-        ranges = self._distances.copy()
-        if self.noise_std > 0:
-            ranges += self._sim.rng.normal(0.0, self.noise_std, self.beams)
-        hit = self._geom_ids >= 0
-        # cutoff only culls bounding volumes: hits somewhat beyond range_max still come back.
-        ranges[~hit | (ranges > self.range_max) | (ranges < self.range_min)] = math.inf
-        yaw = math.atan2(rotation[1, 0], rotation[0, 0])
-        return LaserScan(
-            stamp=self._sim.time,
-            frame_id=self.frame_id,
-            angle_min=self.angle_min,
-            angle_max=self.angle_max,
-            angle_increment=self.angle_increment,
-            range_min=self.range_min,
-            range_max=self.range_max,
-            ranges=ranges,
-            sensor_pose=Pose2D(x=float(self._origin[0]), y=float(self._origin[1]), yaw=yaw),
-        )
+        self._distances[self._geom_ids < 0] = -1.0
 
     def _on_tick(self, _time: float) -> None:
         if self.silenced:

@@ -184,3 +184,25 @@ def test_hit_and_leave_points_are_recorded_on_the_far_side() -> None:
     wall_x = 1.2
     assert bug.hit_points[0][0] < wall_x - 0.3  # stopped short of the wall's near face
     assert bug.leave_points[-1][0] > wall_x + 0.3  # left it beyond the far face
+
+
+def test_sector_distances_follow_each_new_scan() -> None:
+    # The controller works the sectors out once per scan: a new scan must refresh them.
+    sim, robot = build_turtlebot3_sim(load_world("walls"))
+    controller = Bug2Controller(sim, robot.base, robot.lidar)
+    sim.step_for(sim.physics_dt)
+    first = robot.lidar.latest
+    assert first is not None
+    params = controller.params
+    assert controller.front_dist() == min_range_in_sector(first, 0.0, params.front_half_width_deg)
+    robot.base.command(0.2, 0.5)
+    sim.step_for(1.0)
+    latest = robot.lidar.latest
+    assert latest is not None and latest is not first
+    assert controller.front_dist() == min_range_in_sector(latest, 0.0, params.front_half_width_deg)
+    assert controller.left_dist() == min_range_in_sector(
+        latest, params.left_center_deg, params.left_half_width_deg
+    )
+    assert controller.left_dist() != min_range_in_sector(
+        first, params.left_center_deg, params.left_half_width_deg
+    )

@@ -4,13 +4,16 @@ from __future__ import annotations
 
 import math
 
+import mujoco
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim import Simulation
 from baobab.sim.builder import world_spec
 from baobab.sim.lidar import LaserScan, Lidar
+from baobab.sim.lidar_kernel import fan_directions
 from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World
 
 
@@ -138,3 +141,95 @@ def test_rejects_impossible_settings() -> None:
         Lidar(sim, "tb3/base_scan", range_min=2.0, range_max=1.0)
     with pytest.raises(ValueError, match="no site named 'no_such_site'"):
         Lidar(sim, "no_such_site")
+
+
+def _multi_ray_ranges(lidar: Lidar) -> tuple[np.ndarray, np.ndarray]:
+    """Ranges and geom ids as one plain ``mj_multiRay`` call and the sensor's clipping give."""
+    sim = lidar._sim
+    origin = sim.data.site(lidar.site_name).xpos.copy()
+    rotation = sim.data.site(lidar.site_name).xmat.reshape(3, 3)
+    directions = lidar._local_directions @ rotation.T
+    geom_ids = np.empty(lidar.beams, dtype=np.int32)
+    distances = np.empty(lidar.beams)
+    mujoco.mj_multiRay(
+        sim.model,
+        sim.data,
+        origin,
+        directions.reshape(-1),
+        lidar._geomgroup,
+        1,
+        -1,
+        geom_ids,
+        distances,
+        None,
+        lidar.beams,
+        lidar.range_max,
+    )
+    out = (geom_ids < 0) | (distances > lidar.range_max) | (distances < lidar.range_min)
+    distances[out] = math.inf
+    return distances, geom_ids
+
+
+@pytest.mark.parametrize("world", ["cafe", "walls", "farm"])
+def test_compiled_caster_equals_mj_multi_ray(world: str) -> None:
+    # The caster culls (beam, geom) pairs itself: at random poses, some tipped so that beams
+    # meet the floor, with the movable boxes set down at a slant next to the robot, every
+    # range must be bit for bit what mj_multiRay gives.
+    sim, robot = build_turtlebot3_sim(world)
+    model, data = sim.model, sim.data
+    rng = np.random.default_rng(11)
+    low = model.stat.center - 0.5 * model.stat.extent
+    high = model.stat.center + 0.5 * model.stat.extent
+    root = data.joint(robot.names.root_joint)
+    slots = [model.body(f"movable_{i}").mocapid[0] for i in range(2)]
+    floor = model.geom("floor").id
+    floor_hits = 0
+    for trial in range(120):
+        x, y = rng.uniform(low[0], high[0]), rng.uniform(low[1], high[1])
+        tilt = rng.uniform(0.0, 0.3) if trial % 3 == 0 else 0.0
+        roll, pitch = rng.normal(0.0, 1.0, 2) * tilt
+        quat = Rotation.from_euler("xyz", [roll, pitch, rng.uniform(-math.pi, math.pi)]).as_quat()
+        root.qpos[:3] = [x, y, rng.uniform(0.0, 0.3) if tilt else 0.0]
+        root.qpos[3:7] = np.roll(quat, 1)  # MuJoCo's w, x, y, z
+        for k, slot in enumerate(slots):
+            data.mocap_pos[slot] = [x + rng.uniform(-1, 1), y + rng.uniform(-1, 1), 0.25 * k]
+            data.mocap_quat[slot] = np.roll(Rotation.from_rotvec([0, 0.2 * k, trial]).as_quat(), 1)
+        mujoco.mj_forward(model, data)
+        scan = robot.lidar.scan()
+        expected, geom_ids = _multi_ray_ranges(robot.lidar)
+        np.testing.assert_array_equal(scan.ranges, expected)
+        floor_hits += int(np.count_nonzero(np.isfinite(expected) & (geom_ids == floor)))
+    assert floor_hits > 0
+
+
+def test_beam_directions_are_numpys_matmul_bit_for_bit() -> None:
+    # The compiled scanner builds the beam directions itself; they must be exactly the ones
+    # np.matmul gives (the ranges depend on every bit of them).
+    local = Lidar(build_turtlebot3_sim(_world())[0], "tb3/base_scan")._local_directions
+    rng = np.random.default_rng(2)
+    directions = np.empty_like(local)
+    for trial in range(300):
+        turn = rng.normal(0.0, 1.0, 3) * (rng.uniform(0.0, 3.0) if trial % 2 else 0.0)
+        turn[2] = rng.uniform(-4.0, 4.0)
+        rotation = Rotation.from_rotvec(turn).as_matrix()
+        fan_directions(rotation.reshape(-1), local, directions)
+        expected = local @ rotation.T
+        np.testing.assert_array_equal(directions, expected)
+        np.testing.assert_array_equal(np.signbit(directions), np.signbit(expected))
+
+
+def test_an_obstacle_resized_at_run_time_reads_as_mj_multi_ray_sees_it() -> None:
+    # Events grow an obstacle slot (geom_size, geom_rbound) past the culling volumes
+    # mj_multiRay uses; the scanner must still report exactly what mj_multiRay reports.
+    sim, robot = build_turtlebot3_sim("walls", Pose2D(x=1.0, y=1.0))
+    model, data = sim.model, sim.data
+    geom = model.geom("movable_0")
+    half = np.array([0.5, 0.5, 0.25])
+    geom.size[:] = half
+    model.geom_rbound[geom.id] = float(np.linalg.norm(half))
+    data.mocap_pos[model.body("movable_0").mocapid[0]] = [2.0, 2.0, 0.25]
+    mujoco.mj_forward(model, data)
+    scan = robot.lidar.scan()
+    expected, geom_ids = _multi_ray_ranges(robot.lidar)
+    np.testing.assert_array_equal(scan.ranges, expected)
+    assert np.count_nonzero(geom_ids == geom.id) > 0

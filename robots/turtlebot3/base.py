@@ -287,21 +287,7 @@ class DiffDriveBase:
         radius ``facts.footprint_radius`` around ``base_link``. Negative when an obstacle
         reaches inside the footprint; ``inf`` when nothing is within ``max_distance``.
         """
-        model, data = self._sim.model, self._sim.data
-        candidates = self._obstacle_geoms
-        if candidates.size == 0:
-            return math.inf
-        nearest = math.inf
-        # Nearest bound first: the first bound past the best distance so far ends the search
-        # without changing the result.
-        for lower, geom in self._clearance_bounds.sorted_bounds():
-            if lower >= max_distance or lower >= nearest:
-                break
-            distance = mujoco.mj_geomDistance(
-                model, data, self._footprint, geom, max_distance, None
-            )
-            nearest = min(nearest, distance)
-        return nearest if nearest < max_distance else math.inf
+        return self._clearance_bounds.min_clearance(max_distance)
 
     # -- the metrics probe --------------------------------------------------------------------
 

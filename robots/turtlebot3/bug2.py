@@ -31,8 +31,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from baobab.robots.turtlebot3.base import DiffDriveBase
 from baobab.robots.turtlebot3.go_to_goal import (
     GoToGoalController,
@@ -92,7 +90,7 @@ def min_range_in_sector(scan: LaserScan, center_deg: float, half_width_deg: floa
     ranges = scan.ranges
     count = len(ranges)
     if half_width_deg >= 180.0:
-        return float(np.min(ranges))
+        return float(ranges.min())
     full_turn = 2 * math.pi
     start = (math.radians(center_deg - half_width_deg) - scan.angle_min) % full_turn
     end = (math.radians(center_deg + half_width_deg) - scan.angle_min) % full_turn
@@ -100,10 +98,8 @@ def min_range_in_sector(scan: LaserScan, center_deg: float, half_width_deg: floa
     i_start = round(start / scan.angle_increment) % count
     i_end = round(end / scan.angle_increment) % count
     if i_start <= i_end:
-        sector = ranges[i_start : i_end + 1]
-    else:
-        sector = np.concatenate((ranges[: i_end + 1], ranges[i_start:]))
-    return float(np.min(sector))
+        return float(ranges[i_start : i_end + 1].min())
+    return float(min(ranges[: i_end + 1].min(), ranges[i_start:].min()))
 
 
 def dist_to_mline(start: Point, goal: Point, point: Point) -> float:
@@ -167,6 +163,8 @@ class Bug2Controller(GoToGoalController):
         """True once the robot has been farther than ``mline_tol`` from the M-line since H."""
         self.hit_points: list[Point] = []
         self.leave_points: list[Point] = []
+        self._sectors_scan: LaserScan | None = None
+        self._sector_distances = (math.inf, math.inf)
         super().__init__(sim, base, params)
 
     def set_goal(self, x: float, y: float) -> None:
@@ -184,17 +182,25 @@ class Bug2Controller(GoToGoalController):
 
     def front_dist(self) -> float:
         """Nearest return (m) in the front sector of the latest scan; inf before the first."""
-        return self._sector(0.0, self.params.front_half_width_deg)
+        return self._sectors()[0]
 
     def left_dist(self) -> float:
         """Nearest return (m) in the left sector of the latest scan; inf before the first."""
-        return self._sector(self.params.left_center_deg, self.params.left_half_width_deg)
+        return self._sectors()[1]
 
-    def _sector(self, center_deg: float, half_width_deg: float) -> float:
+    def _sectors(self) -> tuple[float, float]:
+        """Front and left distances (m) of the latest scan, worked out once per scan."""
         scan = self.lidar.latest
         if scan is None:
-            return math.inf
-        return min_range_in_sector(scan, center_deg, half_width_deg)
+            return math.inf, math.inf
+        if scan is not self._sectors_scan:  # control runs 4 times per scan
+            params = self.params
+            self._sectors_scan = scan
+            self._sector_distances = (
+                min_range_in_sector(scan, 0.0, params.front_half_width_deg),
+                min_range_in_sector(scan, params.left_center_deg, params.left_half_width_deg),
+            )
+        return self._sector_distances
 
     def step(self, _time: float) -> None:
         """One control step (the periodic callback)."""

@@ -1,15 +1,17 @@
-"""Lower bounds of the distance from the footprint to obstacle geoms, to cull exact queries.
+"""The footprint's clearance to the obstacle geoms: exact distances, few of them, compiled.
 
-``DiffDriveBase.min_clearance`` asks MuJoCo (``mj_geomDistance``) for exact distances, but
-only for the obstacles that could be the nearest: the others are ruled out by a bound.
+:meth:`ClearanceBounds.min_clearance` asks MuJoCo (``mj_geomDistance``) for exact distances,
+but only for the obstacles that could be the nearest: the others are ruled out by a lower
+bound of their distance. Candidates go nearest bound first, and the search ends at the first
+bound that is not below the best distance so far, so the answer is the one an exhaustive
+search gives, bit for bit. The whole search runs compiled, calling MuJoCo by symbol.
 
-A bound for any geom is the centre gap less both bounding radii. For an upright box it is the
-gap in the floor plane between the footprint's centre and the box's rectangle, less the
-footprint radius (the box and the upright footprint cylinder project onto these), less
-:data:`BOUND_MARGIN`. The bounds of geoms that never move (the static obstacles) are reused
-while the footprint stays within :data:`REUSE_DISTANCE` of where they were computed, lowered by
-the distance moved since: every bound is 1-Lipschitz in the footprint's position, so it stays a
-lower bound. The few movable geoms are bounded afresh each time.
+A bound for any geom is the planar centre gap less both bounding radii. Upright boxes and
+cylinders, the usual obstacles, get a tighter one: the planar gap between their outline (a
+rectangle or a disc) and the disc that holds the footprint cylinder's shadow on the floor,
+less :data:`BOUND_MARGIN`. Both shapes project inside those outlines, so the bound holds; when
+the outlines overlap the gap is negative, as deep as the shift that would part them (a
+penetration is never deeper than that).
 """
 
 from __future__ import annotations
@@ -17,23 +19,103 @@ from __future__ import annotations
 import math
 
 import mujoco
+import numba
 import numpy as np
 
-BOX = int(mujoco.mjtGeom.mjGEOM_BOX)
+from baobab.sim.mujoco_native import address, geom_distance
+
+_BOX = int(mujoco.mjtGeom.mjGEOM_BOX)
+_CYLINDER = int(mujoco.mjtGeom.mjGEOM_CYLINDER)
 
 BOUND_MARGIN = 1e-4
-"""Slack (m) under the planar bound, far above the distance solver's tolerance."""
+"""Slack (m) under the planar bounds, far above the distance solver's tolerance."""
 
-REUSE_DISTANCE = 0.1
-"""How far (m) the footprint may move before the static bounds are computed again."""
+UPRIGHT = 1.0 - 1e-9
+"""A geom whose z axis has at least this vertical component counts as upright."""
 
 
-_Row = tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]
-"""A geom's id, and views of its position, rotation, size and bounding radius; its type."""
+@numba.njit(cache=True, nogil=True)
+def clearance_bounds(
+    footprint: int,
+    geoms: np.ndarray,
+    geom_xpos: np.ndarray,
+    geom_xmat: np.ndarray,
+    geom_size: np.ndarray,
+    geom_rbound: np.ndarray,
+    geom_type: np.ndarray,
+    bounds: np.ndarray,
+) -> None:  # pragma: no cover - compiled
+    """Lower bounds (m) of the distances from the ``footprint`` cylinder to ``geoms``.
+
+    Args:
+        footprint: the footprint cylinder's geom id.
+        geoms: obstacle geom ids (n,).
+        geom_xpos .. geom_type: the model's and data's arrays of the same names.
+        bounds: out (n,).
+    """
+    cx, cy = geom_xpos[footprint, 0], geom_xpos[footprint, 1]
+    axis = geom_xmat[footprint]
+    # The footprint's shadow on the floor lies in a disc: radius plus the tilted axis' reach.
+    shadow = geom_size[footprint, 0] + geom_size[footprint, 1] * math.hypot(axis[2], axis[5])
+    own_radius = geom_rbound[footprint]
+    for k in range(geoms.shape[0]):
+        geom = geoms[k]
+        gx, gy = cx - geom_xpos[geom, 0], cy - geom_xpos[geom, 1]
+        bound = math.hypot(gx, gy) - (geom_rbound[geom] + own_radius)
+        r = geom_xmat[geom]
+        kind = geom_type[geom]
+        if r[8] > UPRIGHT and kind in (_BOX, _CYLINDER):
+            # A tilt within UPRIGHT moves the top and bottom outlines by this much at most.
+            lean = geom_size[geom, 2 if kind == _BOX else 1] * math.hypot(r[2], r[5])
+            if kind == _BOX:
+                # The offset in the box frame, R^T (p - c), in the plane, against the rectangle.
+                along_x = abs(r[0] * gx + r[3] * gy) - geom_size[geom, 0]
+                along_y = abs(r[1] * gx + r[4] * gy) - geom_size[geom, 1]
+                if along_x > 0.0 or along_y > 0.0:
+                    planar = math.hypot(max(along_x, 0.0), max(along_y, 0.0))
+                else:  # inside: a negative gap, as deep as the nearest side
+                    planar = max(along_x, along_y)
+            else:
+                planar = math.hypot(gx, gy) - geom_size[geom, 0]
+            bound = max(bound, planar - shadow - lean - BOUND_MARGIN)
+        bounds[k] = bound
+
+
+@numba.njit(cache=True, nogil=True)
+def _min_clearance(
+    model: int,
+    data: int,
+    footprint: int,
+    geoms: np.ndarray,
+    geom_xpos: np.ndarray,
+    geom_xmat: np.ndarray,
+    geom_size: np.ndarray,
+    geom_rbound: np.ndarray,
+    geom_type: np.ndarray,
+    max_distance: float,
+    bounds: np.ndarray,
+) -> float:  # pragma: no cover - compiled
+    """See :meth:`ClearanceBounds.min_clearance`; ``model``/``data`` are C addresses."""
+    clearance_bounds(
+        footprint, geoms, geom_xpos, geom_xmat, geom_size, geom_rbound, geom_type, bounds
+    )
+    nearest = math.inf
+    for _ in range(geoms.shape[0]):
+        # The nearest bound not yet tried: usually one or two rounds.
+        pick, lower = -1, math.inf
+        for k in range(geoms.shape[0]):
+            if bounds[k] < lower:
+                pick, lower = k, bounds[k]
+        if pick < 0 or lower >= max_distance or lower >= nearest:
+            break
+        bounds[pick] = math.inf
+        distance = geom_distance(model, data, footprint, geoms[pick], max_distance, 0)
+        nearest = min(nearest, distance)
+    return nearest if nearest < max_distance else math.inf
 
 
 class ClearanceBounds:
-    """Lower bounds of the distances from ``footprint`` to the obstacle geoms.
+    """Distance from ``footprint`` to the nearest obstacle geom, and its culling bounds.
 
     Args:
         model, data: the simulation's model and data (``data`` kinematics up to date).
@@ -50,58 +132,43 @@ class ClearanceBounds:
         static_geoms: np.ndarray,
         movable_geoms: np.ndarray,
     ) -> None:
-        self._data, self._footprint = data, footprint
-        self._own_radius = float(model.geom_rbound[footprint])
-        self._footprint_radius = float(model.geom_size[footprint, 0])
+        self._footprint = int(footprint)
+        self._geoms = np.concatenate((static_geoms, movable_geoms)).astype(np.int64)
+        self._bounds = np.empty(self._geoms.shape[0])
+        # The struct addresses and array views, read once: each attribute read makes a view.
+        self._addresses = (address(model), address(data))
+        self._arrays = (
+            data.geom_xpos,
+            data.geom_xmat,
+            model.geom_size,
+            model.geom_rbound,
+            model.geom_type,
+        )
+        # The views must outlive nothing: keep the structs they point into alive.
+        self._model, self._data = model, data
 
-        # Row views into the model and data, made once: they follow every change, and
-        # reading them costs less than indexing the whole arrays at each call.
-        def rows(geoms: np.ndarray) -> list[_Row]:
-            return [
-                (
-                    geom,
-                    data.geom_xpos[geom],
-                    data.geom_xmat[geom],
-                    model.geom_size[geom],
-                    model.geom_rbound[geom : geom + 1],
-                    int(model.geom_type[geom]),
-                )
-                for geom in geoms.tolist()
-            ]
+    def min_clearance(self, max_distance: float = 2.0) -> float:
+        """Distance (m) from the footprint to the nearest obstacle geom, as
+        ``min(mj_geomDistance(footprint, g, max_distance))`` over them all gives it.
 
-        self._static_rows = rows(static_geoms)
-        self._movable_rows = rows(movable_geoms)
-        self._static_at = (math.inf, math.inf)
-        self._static_bounds: list[tuple[float, int]] = []
+        Negative when an obstacle reaches inside the footprint; ``inf`` when nothing is
+        within ``max_distance`` (m).
+        """
+        model, data = self._addresses
+        return float(
+            _min_clearance(
+                model,
+                data,
+                self._footprint,
+                self._geoms,
+                *self._arrays,
+                float(max_distance),
+                self._bounds,
+            )
+        )
 
     def sorted_bounds(self) -> list[tuple[float, int]]:
         """``(lower bound (m), geom id)`` of every obstacle geom, nearest bound first."""
-        cx, cy = self._data.geom_xpos[self._footprint, :2].tolist()
-        moved = math.hypot(cx - self._static_at[0], cy - self._static_at[1])
-        if moved > REUSE_DISTANCE:
-            self._static_bounds = self._bounds(self._static_rows, cx, cy)
-            self._static_bounds.sort(key=lambda pair: pair[0])
-            self._static_at, moved = (cx, cy), 0.0
-        pairs = [(bound - moved, geom) for bound, geom in self._static_bounds]
-        if self._movable_rows:
-            pairs.extend(self._bounds(self._movable_rows, cx, cy))
-            pairs.sort(key=lambda pair: pair[0])
-        return pairs
-
-    def _bounds(self, rows: list[_Row], cx: float, cy: float) -> list[tuple[float, int]]:
-        """``(lower bound (m), geom id)`` of each geom of ``rows`` from ``(cx, cy)`` (m)."""
-        pairs = []
-        for geom, xpos, xmat, size, rbound, kind in rows:
-            x, y, _ = xpos.tolist()
-            gx, gy = cx - x, cy - y
-            bound = math.hypot(gx, gy) - (float(rbound[0]) + self._own_radius)
-            r = xmat.tolist()
-            if kind == BOX and r[8] > 1.0 - 1e-9:  # an upright box
-                sx, sy, _ = size.tolist()
-                # The offset in the box frame, R^T (p - c), in the plane.
-                along_x = max(abs(r[0] * gx + r[3] * gy) - sx, 0.0)
-                along_y = max(abs(r[1] * gx + r[4] * gy) - sy, 0.0)
-                planar = math.hypot(along_x, along_y) - self._footprint_radius - BOUND_MARGIN
-                bound = max(bound, planar)
-            pairs.append((bound, geom))
-        return pairs
+        bounds = np.empty(self._geoms.shape[0])
+        clearance_bounds(self._footprint, self._geoms, *self._arrays, bounds)
+        return sorted(zip(bounds.tolist(), self._geoms.tolist(), strict=True))

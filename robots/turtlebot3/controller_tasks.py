@@ -67,6 +67,7 @@ class _Task:
     handle: TaskHandle
     controller: GoToGoalController | Bug2Controller
     goal: Pose2D
+    goal_point: tuple[float, float]
     start_time: float
     best_distance: float
     last_progress: float
@@ -159,7 +160,7 @@ class BaseControllerServer:
         now = self.sim.time
         distance = goal_distance(self.base.pose(), (goal.x, goal.y))
         controller.set_goal(goal.x, goal.y)
-        self._task = _Task(handle, controller, goal, now, distance, now)
+        self._task = _Task(handle, controller, goal, (goal.x, goal.y), now, distance, now)
         self._feedback(self._task, now, distance)
         return handle
 
@@ -174,7 +175,7 @@ class BaseControllerServer:
         task = self._task
         if task is None:
             return
-        distance = goal_distance(self.base.pose(), (task.goal.x, task.goal.y))
+        distance = goal_distance(self.base.pose(), task.goal_point)
         self._feedback(task, now, distance)
         if task.controller.reached:
             self._end(TaskOutcome(TaskStatus.SUCCEEDED))
