@@ -13,27 +13,17 @@ waiting and being blocked all count as no forward progress, as a zero or negativ
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 import py_trees
 
 from baobab.behaviours.ports import Clock
+from baobab.behaviours.progress_rule import DEFAULT_MIN_SPEED, DEFAULT_PERIOD, forward_speed
 from baobab.sim.world import Pose2D
 
+__all__ = ["DEFAULT_MIN_SPEED", "DEFAULT_PERIOD", "ClearCostmapsWhenStuck", "forward_speed"]
+
 Status = py_trees.common.Status
-
-DEFAULT_PERIOD = 0.5
-"""Seed 000's ``COSTMAP_CLEARING_PERIOD`` (s)."""
-DEFAULT_MIN_SPEED = 0.01
-"""Forward speed (m/s) above which the robot counts as moving forward; above zero so that
-contact jitter of a stopped robot does not count."""
-
-
-def forward_speed(previous: Pose2D, current: Pose2D, dt: float) -> float:
-    """Speed (m/s) along ``previous``'s heading from ``previous`` to ``current`` in ``dt`` s."""
-    dx, dy = current.x - previous.x, current.y - previous.y
-    return (dx * math.cos(previous.yaw) + dy * math.sin(previous.yaw)) / dt
 
 
 class ClearCostmapsWhenStuck(py_trees.decorators.Decorator):

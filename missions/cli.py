@@ -21,22 +21,22 @@ if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
 os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 import argparse
-import json
 import sys
 from collections.abc import Callable, Sequence
-from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from baobab.behaviours.ports import Capabilities
-from baobab.missions.compiler import compile_mission
-from baobab.missions.loader import Mission, load_mission
-from baobab.missions.params import parse_assignment
-from baobab.missions.registry import NodeKind, default_registry
-from baobab.missions.robot_catalog import ROBOTS
+from baobab.missions.startup import loading_modules, skip_pydantic_plugin_discovery
 from baobab.sim.errors import BaobabError, SourceError
-from baobab.sim.world import bundled_world_names
-from baobab.sim.yaml_source import load_located_yaml
+
+if TYPE_CHECKING:
+    from baobab.behaviours.ports import Capabilities
+    from baobab.missions.loader import Mission
+
+# Start-up time is a product figure (``baobab validate`` of every bundled mission in well under
+# half a second): the mission loader (pydantic) is imported once main() has prepared the
+# process, and what only one command needs (py_trees for a compiled tree, json, the behaviour
+# catalogue) inside that command's handler.
 
 EXIT_OK, EXIT_NOT_INTENDED, EXIT_INVALID, EXIT_INTERRUPTED = 0, 1, 2, 130
 Handler = Callable[[argparse.Namespace], int]
@@ -44,6 +44,7 @@ Handler = Callable[[argparse.Namespace], int]
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``baobab`` console script; returns the exit code."""
+    skip_pydantic_plugin_discovery()
     arguments = list(sys.argv[1:] if argv is None else argv)
     command = next((argument for argument in arguments if not argument.startswith("-")), None)
     parser = build_parser(command)
@@ -85,6 +86,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
 
 
 def _assignment(text: str) -> tuple[str, str]:
+    from baobab.missions.params import parse_assignment
+
     try:
         return parse_assignment(text)
     except ValueError as exc:
@@ -113,7 +116,9 @@ def _overrides(args: argparse.Namespace) -> dict[str, str]:
 
 
 def _offline_capabilities() -> Capabilities:
-    """Ports for displaying or checking a tree without running it: the clock stands at 0."""
+    """Ports for displaying a tree without running it: the clock stands at 0."""
+    from baobab.behaviours.ports import Capabilities
+
     return Capabilities(clock=lambda: 0.0)
 
 
@@ -126,12 +131,19 @@ def _configure_validate(parser: argparse.ArgumentParser) -> None:
 
 
 def _validate(args: argparse.Namespace) -> int:
+    # load_mission checks everything a file can get wrong (node types, capabilities, parameters,
+    # subtrees, poses); building the py_trees tree from a loaded mission cannot fail, so validate
+    # does not build it (and does not import py_trees).
+    with loading_modules():
+        from baobab.missions.loader import load_mission
+        from baobab.missions.registry import default_registry
+
+        default_registry()
     overrides = _overrides(args)
     failed = 0
     for file in args.files:
         try:
             mission = load_mission(file, overrides)
-            compile_mission(mission, _offline_capabilities(), require_ports=False)
         except SourceError as exc:
             print(exc, file=sys.stderr)
             failed += 1
@@ -162,7 +174,9 @@ def _configure_tree(parser: argparse.ArgumentParser) -> None:
 
 
 def _tree(args: argparse.Namespace) -> int:
+    from baobab.missions.compiler import compile_mission
     from baobab.missions.export import to_btcpp, to_dot, to_unicode
+    from baobab.missions.loader import load_mission
 
     mission = load_mission(args.mission, _overrides(args))
     if args.format == "btcpp":
@@ -182,6 +196,8 @@ def _configure_schema(parser: argparse.ArgumentParser) -> None:
 
 
 def _schema(args: argparse.Namespace) -> int:
+    import json
+
     from baobab.missions.json_schema import mission_json_schema
 
     text = json.dumps(mission_json_schema(), indent=2) + "\n"
@@ -201,6 +217,10 @@ def _configure_list(parser: argparse.ArgumentParser) -> None:
 
 def bundled_missions() -> dict[str, str]:
     """Bundled mission files (``missions/*.yaml``): name -> description."""
+    from importlib import resources
+
+    from baobab.sim.yaml_source import load_located_yaml
+
     folder = resources.files("baobab.missions")
     missions: dict[str, str] = {}
     for entry in sorted(folder.iterdir(), key=lambda e: e.name):
@@ -216,6 +236,10 @@ def bundled_missions() -> dict[str, str]:
 
 
 def _catalogue() -> dict[str, Any]:
+    from baobab.missions.registry import default_registry
+    from baobab.missions.robot_catalog import ROBOTS
+    from baobab.sim.world import bundled_world_names
+
     registry = default_registry()
     return {
         "missions": bundled_missions(),
@@ -238,6 +262,10 @@ def _catalogue() -> dict[str, Any]:
 
 
 def _list(args: argparse.Namespace) -> int:
+    import json
+
+    from baobab.missions.registry import NodeKind
+
     catalogue = _catalogue()
     if args.json:
         print(json.dumps(catalogue, indent=2))

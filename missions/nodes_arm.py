@@ -16,18 +16,18 @@ given ``pose``, or else its current orientation.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal
 
-import py_trees
 from pydantic import Field, ValidationInfo, model_validator
 
-from baobab.behaviours.actions import GoalTaskLeaf
-from baobab.behaviours.conditions import ObjectNear
 from baobab.behaviours.ports import ARM, Capabilities
 from baobab.missions.errors import FieldError, unknown_name
 from baobab.missions.poses import ArmPose, MissionScope, vector_norm
 from baobab.missions.registry import BehaviourType, BuildRequest, NodeKind, NodeParams, Registry
 from baobab.sim.tasks import TaskHandle
+
+if TYPE_CHECKING:  # imported by the factories, when a tree is built (validation needs none)
+    import py_trees
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 TCP = "tcp"
@@ -118,18 +118,24 @@ def _send_move(params: MoveToParams, caps: Capabilities) -> TaskHandle:
 
 
 def _move_to(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.actions import GoalTaskLeaf
+
     params = request.params_as(MoveToParams)
     caps = request.capabilities
     return GoalTaskLeaf(request.name, lambda: _send_move(params, caps))
 
 
 def _gripper(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.actions import GoalTaskLeaf
+
     command = request.params_as(GripperParams).command
     caps = request.capabilities
     return GoalTaskLeaf(request.name, lambda: caps.arm_port().gripper(command))
 
 
 def _object_at(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.conditions import ObjectNear
+
     params = request.params_as(ObjectAtParams)
     caps = request.capabilities
     return ObjectNear(

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import py_trees
+from typing import TYPE_CHECKING
+
 from pydantic import Field
 
-from baobab.behaviours.actions import Constant
-from baobab.behaviours.conditions import Elapsed
-from baobab.behaviours.timing import SimWait
 from baobab.missions.registry import BehaviourType, BuildRequest, NodeKind, NodeParams, Registry
+
+if TYPE_CHECKING:  # imported by the factories, when a tree is built (validation needs none)
+    import py_trees
 
 
 class WaitParams(NodeParams):
@@ -36,20 +37,32 @@ class NoParams(NodeParams):
 
 
 def _wait(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.timing import SimWait
+
     params = request.params_as(WaitParams)
     return SimWait(request.name, params.duration, request.capabilities.clock)
 
 
 def _elapsed(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.conditions import Elapsed
+
     params = request.params_as(ElapsedParams)
     return Elapsed(request.name, params.time, request.capabilities.clock)
 
 
 def _always_success(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
+    from baobab.behaviours.actions import Constant
+
     return Constant(request.name, py_trees.common.Status.SUCCESS)
 
 
 def _always_failure(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
+    from baobab.behaviours.actions import Constant
+
     return Constant(request.name, py_trees.common.Status.FAILURE)
 
 

@@ -8,14 +8,15 @@ Composites always state ``memory``. The short form ``sequence: [...]`` (and
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
-import py_trees
 from pydantic import Field, model_validator
 
-from baobab.behaviours.decorators import SimTimeout
 from baobab.missions.registry import BehaviourType, BuildRequest, NodeKind, NodeParams, Registry
 from baobab.missions.schema import NodeData
+
+if TYPE_CHECKING:  # imported by the factories, when a tree is built (validation needs none)
+    import py_trees
 
 Children = Annotated[list[NodeData], Field(min_length=1, description="the child nodes, in order")]
 Child = Annotated[NodeData, Field(description="the decorated node")]
@@ -119,6 +120,8 @@ class SubtreeCall(NodeParams):
 
 
 def _sequence(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
     params = request.params_as(SequenceParams)
     return py_trees.composites.Sequence(
         name=request.name, memory=params.memory, children=list(request.children)
@@ -126,6 +129,8 @@ def _sequence(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 
 
 def _selector(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
     params = request.params_as(SelectorParams)
     return py_trees.composites.Selector(
         name=request.name, memory=params.memory, children=list(request.children)
@@ -133,6 +138,8 @@ def _selector(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 
 
 def _parallel(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
     params = request.params_as(ParallelParams)
     policy: py_trees.common.ParallelPolicy.Base
     if params.policy == "success_on_all":
@@ -146,6 +153,8 @@ def _parallel(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 
 
 def _retry(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
     params = request.params_as(RetryParams)
     return py_trees.decorators.Retry(
         name=request.name, child=request.child, num_failures=params.num_failures
@@ -153,11 +162,15 @@ def _retry(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 
 
 def _timeout(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.decorators import SimTimeout
+
     params = request.params_as(TimeoutParams)
     return SimTimeout(request.name, request.child, params.duration, request.capabilities.clock)
 
 
 def _repeat(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
     params = request.params_as(RepeatParams)
     return py_trees.decorators.Repeat(
         name=request.name, child=request.child, num_success=params.num_success
@@ -165,18 +178,26 @@ def _repeat(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 
 
 def _invert(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
     return py_trees.decorators.Inverter(name=request.name, child=request.child)
 
 
 def _force_success(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
     return py_trees.decorators.FailureIsSuccess(name=request.name, child=request.child)
 
 
 def _force_failure(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
     return py_trees.decorators.SuccessIsFailure(name=request.name, child=request.child)
 
 
 def _subtree(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    import py_trees
+
     return py_trees.decorators.PassThrough(name=request.name, child=request.child)
 
 

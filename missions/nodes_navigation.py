@@ -10,13 +10,11 @@ on the floor and clear of obstacles by the robot's footprint radius.
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Annotated, Literal
 
-import py_trees
 from pydantic import Field, ValidationInfo, model_validator
 
-from baobab.behaviours.actions import GoalTaskLeaf, InstantCall
-from baobab.behaviours.conditions import IsAt
 from baobab.behaviours.ports import BASE_CONTROLLERS, NAVIGATION
 from baobab.missions.errors import FieldError
 from baobab.missions.poses import GoalPose, MissionScope, Pose, PoseRef
@@ -28,6 +26,11 @@ from baobab.missions.registry import (
     NodeParams,
     Registry,
 )
+
+if TYPE_CHECKING:  # imported by the factories, when a tree is built (validation needs none)
+    import py_trees
+
+    from baobab.sim.tasks import TaskHandle
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
@@ -181,23 +184,29 @@ class IsAtParams(NodeParams):
         return _where(self.location)
 
 
+def _goal_task(name: str, send_goal: Callable[[], TaskHandle]) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.actions import GoalTaskLeaf
+
+    return GoalTaskLeaf(name, send_goal)
+
+
 def _navigate_to_pose(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     goal = request.params_as(NavigateToPoseParams).goal.pose2d()
     caps = request.capabilities
-    return GoalTaskLeaf(request.name, lambda: caps.navigation_port().navigate_to_pose(goal))
+    return _goal_task(request.name, lambda: caps.navigation_port().navigate_to_pose(goal))
 
 
 def _navigate_through_poses(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     goals = [pose.pose2d() for pose in request.params_as(NavigateThroughPosesParams).poses]
     caps = request.capabilities
-    return GoalTaskLeaf(request.name, lambda: caps.navigation_port().navigate_through_poses(goals))
+    return _goal_task(request.name, lambda: caps.navigation_port().navigate_through_poses(goals))
 
 
 def _follow_waypoints(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     params = request.params_as(FollowWaypointsParams)
     waypoints = [pose.pose2d() for pose in params.waypoints]
     caps = request.capabilities
-    return GoalTaskLeaf(
+    return _goal_task(
         request.name,
         lambda: caps.navigation_port().follow_waypoints(
             waypoints, params.wait_at_waypoint, params.stop_on_failure
@@ -208,13 +217,13 @@ def _follow_waypoints(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 def _follow_path(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     path = [pose.pose2d() for pose in request.params_as(FollowPathParams).path]
     caps = request.capabilities
-    return GoalTaskLeaf(request.name, lambda: caps.navigation_port().follow_path(path))
+    return _goal_task(request.name, lambda: caps.navigation_port().follow_path(path))
 
 
 def _spin(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     params = request.params_as(SpinParams)
     caps = request.capabilities
-    return GoalTaskLeaf(
+    return _goal_task(
         request.name,
         lambda: caps.navigation_port().spin(params.radians, params.time_allowance),
     )
@@ -223,7 +232,7 @@ def _spin(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 def _back_up(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     params = request.params_as(BackUpParams)
     caps = request.capabilities
-    return GoalTaskLeaf(
+    return _goal_task(
         request.name,
         lambda: caps.navigation_port().back_up(
             params.distance, params.speed, params.time_allowance
@@ -234,7 +243,7 @@ def _back_up(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 def _drive_on_heading(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     params = request.params_as(DriveOnHeadingParams)
     caps = request.capabilities
-    return GoalTaskLeaf(
+    return _goal_task(
         request.name,
         lambda: caps.navigation_port().drive_on_heading(
             params.distance, params.speed, params.time_allowance
@@ -243,6 +252,8 @@ def _drive_on_heading(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 
 
 def _clear_costmaps(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.actions import InstantCall
+
     which = request.params_as(ClearCostmapsParams).which
     caps = request.capabilities
     return InstantCall(request.name, lambda: caps.navigation_port().clear_costmaps(which))
@@ -251,10 +262,12 @@ def _clear_costmaps(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 def _assisted_teleop(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     allowance = request.params_as(AssistedTeleopParams).time_allowance
     caps = request.capabilities
-    return GoalTaskLeaf(request.name, lambda: caps.navigation_port().assisted_teleop(allowance))
+    return _goal_task(request.name, lambda: caps.navigation_port().assisted_teleop(allowance))
 
 
 def _is_at(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.conditions import IsAt
+
     params = request.params_as(IsAtParams)
     caps = request.capabilities
     return IsAt(
@@ -269,13 +282,13 @@ def _is_at(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 def _go_to_goal(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     goal = request.params_as(NavigateToPoseParams).goal.pose2d()
     caps = request.capabilities
-    return GoalTaskLeaf(request.name, lambda: caps.base_controller_port().go_to_goal(goal))
+    return _goal_task(request.name, lambda: caps.base_controller_port().go_to_goal(goal))
 
 
 def _bug2(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     goal = request.params_as(NavigateToPoseParams).goal.pose2d()
     caps = request.capabilities
-    return GoalTaskLeaf(request.name, lambda: caps.base_controller_port().bug2(goal))
+    return _goal_task(request.name, lambda: caps.base_controller_port().bug2(goal))
 
 
 class GoToGoalParams(NavigateToPoseParams):

@@ -13,19 +13,17 @@ table_3}`` is the short form with the seed's defaults.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal
 
-import py_trees
 from pydantic import Field
 
 from baobab.behaviours.ports import NAVIGATION
-from baobab.behaviours.progress import (
-    DEFAULT_MIN_SPEED,
-    DEFAULT_PERIOD,
-    ClearCostmapsWhenStuck,
-)
+from baobab.behaviours.progress_rule import DEFAULT_MIN_SPEED, DEFAULT_PERIOD
 from baobab.missions.registry import BehaviourType, BuildRequest, NodeKind, NodeParams, Registry
 from baobab.missions.schema import NodeData
+
+if TYPE_CHECKING:  # imported by the factory, when a tree is built (validation needs none)
+    import py_trees
 
 
 class ClearCostmapsWhenStuckParams(NodeParams):
@@ -49,6 +47,8 @@ class ClearCostmapsWhenStuckParams(NodeParams):
 
 
 def _clear_costmaps_when_stuck(request: BuildRequest) -> py_trees.behaviour.Behaviour:
+    from baobab.behaviours.progress import ClearCostmapsWhenStuck
+
     params = request.params_as(ClearCostmapsWhenStuckParams)
     caps = request.capabilities
     return ClearCostmapsWhenStuck(

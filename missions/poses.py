@@ -10,6 +10,7 @@ reading the :class:`MissionScope` from the validation context.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -19,11 +20,12 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    GetJsonSchemaHandler,
     PlainValidator,
     ValidationInfo,
-    WithJsonSchema,
     model_validator,
 )
+from pydantic_core import CoreSchema
 
 from baobab.missions.errors import FieldError, unknown_name
 from baobab.missions.robot_catalog import RobotInfo
@@ -141,14 +143,36 @@ def vector_norm(vector: Sequence[float]) -> float:
     return math.sqrt(sum(float(v) * float(v) for v in vector))
 
 
-POSE_SCHEMA: dict[str, Any] = {
-    "anyOf": [PlanarPose.model_json_schema(), SpatialPose.model_json_schema()]
-}
-"""JSON Schema of a written pose (planar or spatial)."""
-POSE_REF_SCHEMA: dict[str, Any] = {
-    "anyOf": [{"type": "string", "description": "a location name"}, *POSE_SCHEMA["anyOf"]]
-}
-"""JSON Schema of a location name or a written pose."""
+@functools.cache
+def _written_pose_schemas() -> tuple[dict[str, Any], ...]:
+    return PlanarPose.model_json_schema(), SpatialPose.model_json_schema()
+
+
+@dataclass(frozen=True)
+class PoseJsonSchema:
+    """``WithJsonSchema`` for pose fields, made when a JSON Schema is asked for.
+
+    Generating the pose models' JSON Schemas takes a few milliseconds, which every command
+    would pay at import (``baobab validate`` never needs them).
+
+    Attributes:
+        names: a location name is also accepted (``anyOf`` begins with a string).
+    """
+
+    names: bool
+
+    def __get_pydantic_json_schema__(
+        self, core_schema: CoreSchema, handler: GetJsonSchemaHandler
+    ) -> dict[str, Any]:
+        """The pose schema, as ``WithJsonSchema`` gives it (a shallow copy)."""
+        name = [{"type": "string", "description": "a location name"}] if self.names else []
+        return {"anyOf": [*name, *_written_pose_schemas()]}
+
+
+POSE_SCHEMA = PoseJsonSchema(names=False)
+"""JSON Schema of a written pose (planar or spatial), as a field annotation."""
+POSE_REF_SCHEMA = PoseJsonSchema(names=True)
+"""JSON Schema of a location name or a written pose, as a field annotation."""
 
 
 def parse_pose(value: Any) -> Pose:
@@ -246,11 +270,11 @@ def _arm_pose(value: Any, info: ValidationInfo) -> Pose:
     return pose
 
 
-PoseRef = Annotated[Pose, PlainValidator(_pose_ref), WithJsonSchema(POSE_REF_SCHEMA)]
+PoseRef = Annotated[Pose, PlainValidator(_pose_ref), POSE_REF_SCHEMA]
 """A location name or a written pose."""
 
-GoalPose = Annotated[Pose, PlainValidator(_goal_pose), WithJsonSchema(POSE_REF_SCHEMA)]
+GoalPose = Annotated[Pose, PlainValidator(_goal_pose), POSE_REF_SCHEMA]
 """A pose a mobile base must reach: on the floor and clear of obstacles by its footprint."""
 
-ArmPose = Annotated[Pose, PlainValidator(_arm_pose), WithJsonSchema(POSE_REF_SCHEMA)]
+ArmPose = Annotated[Pose, PlainValidator(_arm_pose), POSE_REF_SCHEMA]
 """A spatial tool pose (or the name of a spatial location)."""

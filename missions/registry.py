@@ -13,14 +13,16 @@ import enum
 import functools
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
-import py_trees
 from pydantic import BaseModel, ConfigDict, Field
 from pydantic.fields import FieldInfo
 
 from baobab.behaviours.ports import Capabilities
 from baobab.sim.errors import BaobabError
+
+if TYPE_CHECKING:  # factories import py_trees when they build, so validation never loads it
+    import py_trees
 
 P = TypeVar("P", bound="NodeParams")
 STRUCTURAL_FIELDS = ("name", "children", "child")
@@ -42,9 +44,14 @@ class NodeKind(enum.Enum):
 
 
 class NodeParams(BaseModel):
-    """Base of every node's parameter model: unknown keys are refused."""
+    """Base of every node's parameter model: unknown keys are refused.
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    The models build their validators when first used, not when defined: a mission uses a
+    few of the node types, and building every one would be most of ``baobab validate``'s
+    start-up time.
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
 
     name: str | None = Field(default=None, description="label in tree views and traces")
 
@@ -74,7 +81,7 @@ class BuildRequest:
         return self.children[0]
 
 
-Factory = Callable[[BuildRequest], py_trees.behaviour.Behaviour]
+Factory = Callable[[BuildRequest], "py_trees.behaviour.Behaviour"]
 
 
 @dataclass(frozen=True)

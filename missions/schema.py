@@ -25,6 +25,7 @@ from baobab.missions.errors import FieldError, unknown_name
 from baobab.missions.params import PARAM_NAME_PATTERN, ParamSpec
 from baobab.missions.poses import POSE_REF_SCHEMA, POSE_SCHEMA, PlanarPose, Pose, parse_pose
 from baobab.missions.robot_catalog import ROBOTS
+from baobab.sim.yaml_source import empty_list
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -52,7 +53,7 @@ def _known_robot(name: str) -> str:
 
 
 RobotName = Annotated[str, AfterValidator(_known_robot), WithJsonSchema({"enum": list(ROBOTS)})]
-WrittenPose = Annotated[Pose, PlainValidator(parse_pose), WithJsonSchema(POSE_SCHEMA)]
+WrittenPose = Annotated[Pose, PlainValidator(parse_pose), POSE_SCHEMA]
 
 
 class SubtreeSpec(_Strict):
@@ -349,7 +350,7 @@ class MissionFile(_Strict):
         description="a bundled world name, or a world file path inside the mission's folder",
     )
     robot: RobotName
-    start: Annotated[Any, WithJsonSchema(POSE_REF_SCHEMA)] = Field(
+    start: Annotated[Any, POSE_REF_SCHEMA] = Field(
         default=None, description="start pose or location; default: the world's spawn"
     )
     seed: Annotated[int, Field(ge=0)] = 0
@@ -357,7 +358,7 @@ class MissionFile(_Strict):
     locations: dict[Name, WrittenPose] = Field(default_factory=dict)
     tree: NodeData
     subtrees: dict[ParamName, SubtreeSpec] = Field(default_factory=dict)
-    events: list[Event] = Field(default_factory=list)
+    events: list[Event] = Field(default_factory=empty_list)
     noise: Noise = Field(default_factory=Noise, description="sensor noise, off by default")
     timeout: Positive = Field(default=DEFAULT_TIMEOUT, description="s of sim time")
     expect: Expect | None = None

@@ -10,7 +10,6 @@ from __future__ import annotations
 import hashlib
 import math
 from functools import cached_property
-from importlib import resources
 from pathlib import Path
 from typing import Annotated
 
@@ -21,6 +20,7 @@ from baobab.sim.yaml_source import (
     MAX_FILE_BYTES,
     FieldValueError,
     describe_validation_error,
+    empty_list,
     load_located_yaml,
 )
 
@@ -114,8 +114,8 @@ class World(_Strict):
     name: str
     description: str = ""
     floor: Floor
-    boxes: list[Box] = Field(default_factory=list)
-    cylinders: list[Cylinder] = Field(default_factory=list)
+    boxes: list[Box] = Field(default_factory=empty_list)
+    cylinders: list[Cylinder] = Field(default_factory=empty_list)
     spawns: dict[str, Pose2D] = Field(min_length=1)
     locations: dict[str, Pose2D] = Field(default_factory=dict)
 
@@ -173,21 +173,23 @@ class World(_Strict):
 
 
 BUNDLED_WORLDS = ("walls", "cafe", "farm", "town")
+_WORLDS_FOLDER = Path(__file__).parent / "worlds"
+"""The bundled world files, package data next to this module (importlib.resources would add
+its own imports to every command's start-up)."""
 
 
 def bundled_world_path(name: str) -> Path:
     """Path of a bundled world file such as ``cafe`` -> ``.../sim/worlds/cafe.yaml``."""
-    return Path(str(resources.files("baobab.sim") / "worlds" / f"{name}.yaml"))
+    return _WORLDS_FOLDER / f"{name}.yaml"
 
 
 def bundled_world_names() -> list[str]:
     """Names of all bundled 2D worlds, sorted."""
-    folder = resources.files("baobab.sim") / "worlds"
-    if not folder.is_dir():
+    if not _WORLDS_FOLDER.is_dir():
         return []
     return sorted(
         entry.name.removesuffix(".yaml")
-        for entry in folder.iterdir()
+        for entry in _WORLDS_FOLDER.iterdir()
         if entry.name.endswith(".yaml")
     )
 
