@@ -92,8 +92,6 @@ class DiffDriveBase:
         self._is_robot_geom = np.zeros(model.ngeom, dtype=bool)
         self._is_robot_geom[self._robot_geoms] = True
         self._is_floor_geom = model.geom_group == FLOOR_GROUP
-        obstacle = (model.geom_group == STATIC_GROUP) | (model.geom_group == MOVABLE_GROUP)
-        self._obstacle_geoms = np.flatnonzero(obstacle)
         self._footprint = model.geom(self.names.footprint_geom).id
         self._clearance_bounds = ClearanceBounds(
             model,

@@ -94,7 +94,7 @@ BASE_LOOP = np.dtype(
 """One robot's base loop: where it lives in MjData, its state and its probe (all 8-byte)."""
 
 _WORDS = BASE_LOOP.itemsize // 8
-WORD = {name: BASE_LOOP.fields[name][1] // 8 for name in BASE_LOOP.names}
+WORD = {name: field[1] // 8 for name, field in (BASE_LOOP.fields or {}).items()}
 """Each field's index in a record viewed as 8-byte words (Python reads and writes them so)."""
 
 Loop: TypeAlias = Any
