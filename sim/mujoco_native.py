@@ -10,6 +10,7 @@ compiled code).
 
 from __future__ import annotations
 
+import ctypes.util
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, cast
@@ -17,6 +18,8 @@ from typing import Any, cast
 import llvmlite.binding
 import mujoco
 from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 
 def _mujoco_library() -> str:
@@ -28,8 +31,12 @@ def _mujoco_library() -> str:
     raise ImportError(f"MuJoCo's shared library is not in {folder}")  # pragma: no cover
 
 
-# The bindings load libmujoco privately: make its symbols visible to the JIT linker.
+# The bindings load libmujoco privately: make its symbols visible to the JIT linker; and libm's,
+# for C functions numba does not provide.
 llvmlite.binding.load_library_permanently(_mujoco_library())
+_libm = ctypes.util.find_library("m")
+if _libm is not None:  # pragma: no branch - every Unix has one
+    llvmlite.binding.load_library_permanently(_libm)
 
 ray_geom = cast(
     Callable[[int, int, int, int, int, int, int], float],
@@ -52,6 +59,41 @@ geom_distance = cast(
 )
 """``mj_geomDistance(model, data, geom1, geom2, distmax, fromto)``: signed distance (m) between
 two geoms, ``distmax`` if it is larger (``fromto`` may be 0)."""
+
+
+mj_get_state = cast(
+    Callable[[Any, Any, Any, int], None],
+    types.ExternalFunction(
+        "mj_getState", types.void(types.voidptr, types.voidptr, types.voidptr, types.intc)
+    ),
+)
+"""``mj_getState(m, d, state, spec)``: copy the parts ``spec`` of the state into ``state``."""
+
+mj_state_size = cast(
+    Callable[[Any, int], int],
+    types.ExternalFunction("mj_stateSize", types.intc(types.voidptr, types.intc)),
+)
+"""``mj_stateSize(m, spec)``: the number of float64 values in the state parts ``spec``."""
+
+remainder = cast(
+    Callable[[float, float], float],
+    types.ExternalFunction("remainder", types.float64(types.float64, types.float64)),
+)
+"""C's ``remainder``: the same function as Python's ``math.remainder``."""
+
+
+@intrinsic
+def _pointer_intrinsic(typingctx: Any, address: Any) -> Any:  # pragma: no cover - compiled
+    signature = types.voidptr(types.intp)
+
+    def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
+        return builder.inttoptr(args[0], cgutils.voidptr_t)
+
+    return signature, codegen
+
+
+pointer = cast(Callable[[Any], Any], _pointer_intrinsic)
+"""The pointer at an integer address (compiled code only)."""
 
 
 def address(struct: Any) -> int:

@@ -23,22 +23,19 @@ never loads the arm's dynamics and the other way round.
 
 from __future__ import annotations
 
-import ctypes.util
 import functools
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any, cast
 
-import llvmlite.binding
 import mujoco
 import numba
 import numpy as np
 from llvmlite import ir
 from numba import types
-from numba.core import cgutils
 from numba.extending import intrinsic
 
 from baobab.sim.errors import SimulationError
+from baobab.sim.mujoco_native import mj_get_state, mj_state_size, pointer
 
 USERDATA_SLOTS = 4
 """Entries of ``mjData.userdata`` a model with compiled control reserves: marker, MjData
@@ -51,54 +48,6 @@ _MARKER = 2.0**33 + 0.125
 """First userdata entry of an attached MjData: a value no one writes by chance."""
 STATE_TIME = int(mujoco.mjtState.mjSTATE_TIME)
 _STATE_USERDATA = int(mujoco.mjtState.mjSTATE_USERDATA)
-
-
-def _mujoco_library() -> str:
-    folder = Path(mujoco.__file__).parent
-    for pattern in ("libmujoco.so*", "libmujoco*.dylib", "mujoco.dll"):
-        found = sorted(folder.glob(pattern))
-        if found:
-            return str(found[0])
-    raise ImportError(f"MuJoCo's shared library is not in {folder}")  # pragma: no cover
-
-
-# Compiled code calls MuJoCo's C API and libm by symbol name: make their symbols visible to the
-# JIT linker (the bindings load MuJoCo privately).
-llvmlite.binding.load_library_permanently(_mujoco_library())
-_libm = ctypes.util.find_library("m")
-if _libm is not None:  # pragma: no branch - every Unix has one
-    llvmlite.binding.load_library_permanently(_libm)
-
-mj_get_state = cast(
-    Callable[[Any, Any, Any, int], None],
-    types.ExternalFunction(
-        "mj_getState", types.void(types.voidptr, types.voidptr, types.voidptr, types.intc)
-    ),
-)
-"""MuJoCo's ``mj_getState(m, d, state, spec)`` (compiled code only)."""
-_mj_state_size = cast(
-    Callable[[Any, int], int],
-    types.ExternalFunction("mj_stateSize", types.intc(types.voidptr, types.intc)),
-)
-remainder = cast(
-    Callable[[float, float], float],
-    types.ExternalFunction("remainder", types.float64(types.float64, types.float64)),
-)
-"""C's ``remainder`` (compiled code only): the same function as Python's ``math.remainder``."""
-
-
-@intrinsic
-def _pointer_intrinsic(typingctx: Any, address: Any) -> Any:  # pragma: no cover - compiled
-    signature = types.voidptr(types.intp)
-
-    def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
-        return builder.inttoptr(args[0], cgutils.voidptr_t)
-
-    return signature, codegen
-
-
-pointer = cast(Callable[[Any], Any], _pointer_intrinsic)
-"""The pointer at an integer address (compiled code only)."""
 
 
 @intrinsic
@@ -123,7 +72,7 @@ _call_kernel = cast(Callable[[Any, Any, Any, Any], None], _call_kernel_intrinsic
 def _control_callback(model: int, data: int) -> None:  # pragma: no cover - compiled
     """``mjcb_control``: run the kernel attached to ``data``, if any (module docstring)."""
     m = pointer(model)
-    if _mj_state_size(m, _STATE_USERDATA) != USERDATA_SLOTS:
+    if mj_state_size(m, _STATE_USERDATA) != USERDATA_SLOTS:
         return
     slots = np.empty(USERDATA_SLOTS)
     mj_get_state(m, pointer(data), pointer(slots.ctypes.data), _STATE_USERDATA)

@@ -26,7 +26,8 @@ from baobab.robots.panda.errors import PandaSceneError
 from baobab.robots.panda.impedance_law import CONTROLLER
 from baobab.sim import native_control
 from baobab.sim.errors import SimulationError
-from baobab.sim.native_control import STATE_TIME, mj_get_state, pointer
+from baobab.sim.mujoco_native import mj_get_state, pointer
+from baobab.sim.native_control import STATE_TIME
 
 USERDATA_SLOTS = native_control.USERDATA_SLOTS
 """Entries of ``mjData.userdata`` the arm's scene reserves (:mod:`baobab.sim.native_control`)."""

@@ -33,7 +33,8 @@ import numpy as np
 
 from baobab.sim import native_control
 from baobab.sim.errors import SimulationError
-from baobab.sim.native_control import STATE_TIME, mj_get_state, pointer, remainder
+from baobab.sim.mujoco_native import mj_get_state, pointer, remainder
+from baobab.sim.native_control import STATE_TIME
 from baobab.sim.simulation import Simulation
 
 BASE_LOOP = np.dtype(
