@@ -17,13 +17,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from baobab.nav.costmap import FREE_SPACE, Costmap2D
-from baobab.nav.costmap_kernels import (
-    base_change_bounds,
-    dropped_base_bounds,
-    refresh_window,
-    refresh_window_static,
-    shift_grid,
-)
 from baobab.nav.layers import (
     Bounds,
     InflationLayer,
@@ -32,6 +25,13 @@ from baobab.nav.layers import (
     ObstacleParams,
     StaticLayer,
     union_bounds,
+)
+from baobab.nav.window_kernels import (
+    base_change_bounds,
+    dropped_base_bounds,
+    refresh_window,
+    refresh_window_static,
+    shift_grid,
 )
 from baobab.sim.lidar import LaserScan
 from baobab.sim.world import Pose2D, World

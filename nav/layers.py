@@ -22,12 +22,8 @@ from baobab.nav.costmap import (
     MAX_NON_OBSTACLE,
     Costmap2D,
 )
-from baobab.nav.costmap_kernels import (
-    cell_thresholds,
-    inflation_costs,
-    shift_grid,
-    trace_scan,
-)
+from baobab.nav.raytrace_kernels import cell_thresholds, trace_scan
+from baobab.nav.window_kernels import inflation_costs, shift_grid
 from baobab.sim.lidar import LaserScan
 from baobab.sim.world import Box, Cylinder, World
 

@@ -21,9 +21,9 @@ from baobab.nav.costmap import (
     NO_INFORMATION,
     Costmap2D,
 )
-from baobab.nav.costmap_kernels import cell_thresholds
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
 from baobab.nav.layers import InflationLayer, ObstacleLayer, ObstacleParams, StaticLayer
+from baobab.nav.raytrace_kernels import cell_thresholds
 from baobab.sim.lidar import LaserScan
 from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World
 
