@@ -17,7 +17,9 @@ paced to the wall clock.
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
+import os
 import signal
 import sys
 import threading
@@ -97,6 +99,32 @@ def sigint_flag() -> Iterator[threading.Event]:
         signal.signal(signal.SIGINT, previous)
 
 
+_ROBOT_KERNELS = {
+    "turtlebot3": ("baobab.robots.turtlebot3.base_kernel", "base_kernel"),
+    "panda": ("baobab.robots.panda.native_loop", "_arm_kernel"),
+}
+"""Per robot, the module and function of the compiled kernel its runs need first."""
+
+
+def kernels_cached(robot: str) -> bool:
+    """Whether numba's disk cache holds ``robot``'s kernel (if not, this run compiles them).
+
+    numba keeps an index file ``<module>.<function>-<line>.py<version>.nbi`` per cached
+    function, in ``__pycache__`` beside the module or under ``NUMBA_CACHE_DIR``.
+    """
+    if robot not in _ROBOT_KERNELS:
+        return True
+    module, function = _ROBOT_KERNELS[robot]
+    spec = importlib.util.find_spec(module)
+    if spec is None or spec.origin is None:
+        return True
+    pattern = f"{module.rsplit('.', 1)[1]}.{function}-*.nbi"
+    cache_dir = os.environ.get("NUMBA_CACHE_DIR")
+    if cache_dir:
+        return any(Path(cache_dir).rglob(pattern))
+    return any((Path(spec.origin).parent / "__pycache__").glob(pattern))
+
+
 def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
     """The ``run`` handler; returns the exit code (BaobabError means invalid input, exit 2)."""
     recording = recording_options(args)
@@ -129,6 +157,11 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
             progress = LineProgress(stream)
             stream.write(f"running {title}\n")
             stream.flush()
+        if not kernels_cached(mission.robot.name):
+            sys.stderr.write(
+                "first run on this machine: compiling baobab's kernels "
+                "(about a minute; later runs load them from the cache)\n"
+            )
         try:
             record = run_mission(
                 mission,

@@ -401,3 +401,15 @@ def test_a_mobile_run_without_navigation_imports_neither_panda_nor_nav(tmp_path:
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert done.stdout.splitlines()[-1] == "HEAVY 0 []"
+
+
+def test_a_cold_kernel_cache_is_announced(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from baobab.missions.run_command import kernels_cached
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    assert not kernels_cached("turtlebot3")
+    index = tmp_path / "turtlebot3_0123" / "base_kernel.base_kernel-170.py311.nbi"
+    index.parent.mkdir()
+    index.touch()
+    assert kernels_cached("turtlebot3")
+    assert not kernels_cached("panda")
