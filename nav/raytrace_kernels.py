@@ -37,6 +37,19 @@ def cell_thresholds(count: int, resolution: float) -> np.ndarray:
     raise ArithmeticError("cell thresholds did not converge")  # pragma: no cover
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def include_cell(bounds: np.ndarray, ix: int, iy: int, first: bool) -> None:  # pragma: no cover
+    """Grow the cell rectangle ``bounds`` (x0, y0, x1, y1; end exclusive) to hold cell
+    (``ix``, ``iy``); the ``first`` cell starts it."""
+    if first:
+        bounds[0], bounds[1], bounds[2], bounds[3] = ix, iy, ix + 1, iy + 1
+    else:
+        bounds[0] = min(bounds[0], ix)
+        bounds[1] = min(bounds[1], iy)
+        bounds[2] = max(bounds[2], ix + 1)
+        bounds[3] = max(bounds[3], iy + 1)
+
+
 @numba.njit(cache=True, nogil=True)
 def trace_scan(
     data: np.ndarray,
@@ -168,13 +181,7 @@ def trace_scan(
             continue
         changed_index[kept] = index
         changed_old[kept] = changed_old[e]
-        if kept == 0:
-            bounds[0], bounds[1], bounds[2], bounds[3] = ix, iy, ix + 1, iy + 1
-        else:
-            bounds[0] = min(bounds[0], ix)
-            bounds[1] = min(bounds[1], iy)
-            bounds[2] = max(bounds[2], ix + 1)
-            bounds[3] = max(bounds[3], iy + 1)
+        include_cell(bounds, ix, iy, kept == 0)
         kept += 1
     return kept
 

@@ -19,6 +19,7 @@ from baobab.nav.costmap import (
     LETHAL_OBSTACLE,
     NO_INFORMATION,
 )
+from baobab.nav.raytrace_kernels import include_cell
 
 
 @numba.njit(cache=True, nogil=True)
@@ -52,14 +53,8 @@ def base_change_bounds(
             )
         if max(static, changed_old[e]) == max(static, obstacle[iy, ix]):
             continue
-        if not found:
-            bounds[0], bounds[1], bounds[2], bounds[3] = ix, iy, ix + 1, iy + 1
-            found = True
-        else:
-            bounds[0] = min(bounds[0], ix)
-            bounds[1] = min(bounds[1], iy)
-            bounds[2] = max(bounds[2], ix + 1)
-            bounds[3] = max(bounds[3], iy + 1)
+        include_cell(bounds, ix, iy, not found)
+        found = True
     return found
 
 
@@ -271,14 +266,8 @@ def dropped_base_bounds(
                     static = raster[sy, sx] if inside else LETHAL_OBSTACLE
                 if value <= static:
                     continue
-                if not found:
-                    bounds[0], bounds[1], bounds[2], bounds[3] = ix, iy, ix + 1, iy + 1
-                    found = True
-                else:
-                    bounds[0] = min(bounds[0], ix)
-                    bounds[1] = min(bounds[1], iy)
-                    bounds[2] = max(bounds[2], ix + 1)
-                    bounds[3] = max(bounds[3], iy + 1)
+                include_cell(bounds, ix, iy, not found)
+                found = True
     return found
 
 
