@@ -22,6 +22,18 @@ from baobab.nav.costmap import (
 from baobab.nav.raytrace_kernels import include_cell
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _static_cost(raster: np.ndarray, use_static: bool, sx: int, sy: int) -> int:  # pragma: no cover
+    """The static layer's cost at raster cell (``sx``, ``sy``): lethal beyond the raster, free
+    when the costmap has no static layer."""
+    if not use_static:
+        return FREE_SPACE
+    raster_h, raster_w = raster.shape
+    if 0 <= sx < raster_w and 0 <= sy < raster_h:
+        return raster[sy, sx]
+    return LETHAL_OBSTACLE
+
+
 @numba.njit(cache=True, nogil=True)
 def base_change_bounds(
     obstacle: np.ndarray,
@@ -40,17 +52,11 @@ def base_change_bounds(
     beyond it). Writes ``(ix0, iy0, ix1, iy1)`` to ``bounds``; returns whether any changed.
     """
     width = obstacle.shape[1]
-    raster_h, raster_w = raster.shape
     found = False
     for e in range(count):
         index = changed_index[e]
         iy, ix = index // width, index % width
-        static = FREE_SPACE
-        if use_static:
-            sx, sy = raster_x0 + ix, raster_y0 + iy
-            static = (
-                raster[sy, sx] if 0 <= sx < raster_w and 0 <= sy < raster_h else LETHAL_OBSTACLE
-            )
+        static = _static_cost(raster, use_static, raster_x0 + ix, raster_y0 + iy)
         if max(static, changed_old[e]) == max(static, obstacle[iy, ix]):
             continue
         include_cell(bounds, ix, iy, not found)
@@ -243,7 +249,6 @@ def dropped_base_bounds(
     window's cells before the move; returns whether there are any.
     """
     height, width = obstacle.shape
-    raster_h, raster_w = raster.shape
     kept_x0, kept_x1 = max(dix, 0), width + min(dix, 0)
     kept_y0, kept_y1 = max(diy, 0), height + min(diy, 0)
     found = False
@@ -259,11 +264,7 @@ def dropped_base_bounds(
                 value = obstacle[iy, ix]
                 if value == FREE_SPACE:
                     continue
-                static = FREE_SPACE
-                if use_static:
-                    sx, sy = raster_x0 + ix, raster_y0 + iy
-                    inside = 0 <= sx < raster_w and 0 <= sy < raster_h
-                    static = raster[sy, sx] if inside else LETHAL_OBSTACLE
+                static = _static_cost(raster, use_static, raster_x0 + ix, raster_y0 + iy)
                 if value <= static:
                     continue
                 include_cell(bounds, ix, iy, not found)
@@ -328,11 +329,7 @@ def refresh_window_static(
                 value = obstacle[oy, ox]
                 if value != LETHAL_OBSTACLE:
                     continue
-                static = FREE_SPACE
-                if use_static:
-                    sx, sy = raster_x0 + ox, raster_y0 + oy
-                    inside = 0 <= sx < raster_w and 0 <= sy < raster_h
-                    static = raster[sy, sx] if inside else LETHAL_OBSTACLE
+                static = _static_cost(raster, use_static, raster_x0 + ox, raster_y0 + oy)
                 if static >= LETHAL_OBSTACLE:
                     continue  # already lethal in the static costs, or hidden by unknown
                 for i in range(max(oy - reach, y0), min(oy + reach + 1, y1)):

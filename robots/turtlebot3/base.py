@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from baobab.robots.turtlebot3.base_kernel import BASE_LOOP, WORD, base_loops, catch_up
+from baobab.robots.turtlebot3.base_kernel import LOOP_WORDS, WORD, base_loops, catch_up
 from baobab.robots.turtlebot3.clearance_bounds import ClearanceBounds
 from baobab.robots.turtlebot3.model import (
     BURGER,
@@ -82,6 +82,8 @@ class DiffDriveBase:
         self._actuators = [data.actuator(name) for name in self.names.wheel_actuators]
         self._wheel_angles = tuple(wheel.qpos for wheel in self._wheels)
         self._rotation_buffer = np.empty(9)
+        self._rotation_revision = -1
+        self._rotation_list: list[float] = []
         self._root_quaternion = self._root.qpos[3:7]  # a view: w, x, y, z
         self._pose_revision = -1
         self._velocity_revision = -1
@@ -100,7 +102,6 @@ class DiffDriveBase:
             np.flatnonzero(model.geom_group == STATIC_GROUP),
             np.flatnonzero(model.geom_group == MOVABLE_GROUP),
         )
-        self._target = (0.0, 0.0)
         self._loop = self._start_loop(sim, model)
         self._reset_odometry()
         self.handle: PeriodicHandle = sim.add_native(self._catch_up, name=f"{prefix}base")
@@ -111,7 +112,7 @@ class DiffDriveBase:
         loop = group.add(sim)
         facts, names = self.facts, self.names
         self._words, self._loop_index = group.words, group.size - 1
-        first = self._loop_index * (BASE_LOOP.itemsize // 8)
+        first = self._loop_index * LOOP_WORDS
         self._target_word = first + WORD["target_linear"]  # then target_angular
         self._commanded_word = first + WORD["commanded_linear"]  # then commanded_angular
         self._odometry_word = first + WORD["odom_x"]  # x, y, yaw, linear, angular, stamp
@@ -164,7 +165,6 @@ class DiffDriveBase:
         self._set_target(0.0, 0.0)
 
     def _set_target(self, linear: float, angular: float) -> None:
-        self._target = (linear, angular)
         words, at = self._words, self._target_word
         words[at] = linear
         words[at + 1] = angular
@@ -172,7 +172,8 @@ class DiffDriveBase:
     @property
     def target(self) -> tuple[float, float]:
         """The latest ``cmd_vel`` after clipping: (m/s, rad/s)."""
-        return self._target
+        linear, angular = self._words[self._target_word : self._target_word + 2].tolist()
+        return (linear, angular)
 
     @property
     def commanded(self) -> tuple[float, float]:
@@ -220,10 +221,13 @@ class DiffDriveBase:
     # -- ground truth -------------------------------------------------------------------------
 
     def _rotation(self) -> list[float]:
-        """The chassis rotation matrix, row-major, as nine floats."""
-        mujoco.mju_quat2Mat(self._rotation_buffer, self._root_quaternion)
-        rotation: list[float] = self._rotation_buffer.tolist()
-        return rotation
+        """The chassis rotation matrix, row-major, as nine floats (once per state revision)."""
+        revision = self._sim.state_revision
+        if revision != self._rotation_revision:
+            mujoco.mju_quat2Mat(self._rotation_buffer, self._root_quaternion)
+            self._rotation_list = self._rotation_buffer.tolist()
+            self._rotation_revision = revision
+        return self._rotation_list
 
     def pose(self) -> Pose2D:
         """Ground-truth pose of ``base_link`` in the map frame (m, rad)."""

@@ -94,7 +94,8 @@ BASE_LOOP = np.dtype(
 )
 """One robot's base loop: where it lives in MjData, its state and its probe (all 8-byte)."""
 
-_WORDS = BASE_LOOP.itemsize // 8
+LOOP_WORDS = BASE_LOOP.itemsize // 8
+"""A record's size in 8-byte words."""
 WORD = {name: field[1] // 8 for name, field in (BASE_LOOP.fields or {}).items()}
 """Each field's index in a record viewed as 8-byte words (Python reads and writes them so)."""
 
@@ -223,9 +224,9 @@ def catch_up(words: np.ndarray, index: int, step: int) -> None:
 
 def base_kernel(model: int, data: int, address: int) -> None:  # pragma: no cover - compiled
     """The kernel (``mjcb_control``) of every base of one simulation (module docstring)."""
-    first = numba.carray(pointer(address), (_WORDS,), np.float64).view(BASE_LOOP)
+    first = numba.carray(pointer(address), (LOOP_WORDS,), np.float64).view(BASE_LOOP)
     size = first[0].group_size
-    loops = numba.carray(pointer(address), (size * _WORDS,), np.float64).view(BASE_LOOP)
+    loops = numba.carray(pointer(address), (size * LOOP_WORDS,), np.float64).view(BASE_LOOP)
     gate = numba.carray(pointer(loops[0].gate_address), (1,), np.int64)
     if gate[0] != 0:
         time = np.empty(1)
@@ -257,7 +258,7 @@ class BaseLoops:
         self.loops = np.zeros(MAX_ROBOTS, dtype=BASE_LOOP)
         self.words = self.loops.view(np.float64)
         """The records as float64 words: record ``i``'s field ``f`` is
-        ``words[i * len(BASE_LOOP) + WORD[f]]`` (float fields only)."""
+        ``words[i * LOOP_WORDS + WORD[f]]`` (float fields only)."""
         self.size = 0
 
     def add(self, sim: Simulation) -> np.void:
