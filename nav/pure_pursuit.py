@@ -153,41 +153,44 @@ class RegulatedPurePursuit:
         return linear, angular
 
 
+_KERNEL_SETTINGS = (
+    "desired_linear_vel",
+    "max_angular_vel",
+    "lookahead_dist",
+    "min_lookahead_dist",
+    "max_lookahead_dist",
+    "lookahead_time",
+    "use_velocity_scaled_lookahead_dist",
+    "use_interpolation",
+    "use_rotate_to_heading",
+    "rotate_to_heading_min_angle",
+    "rotate_to_heading_angular_vel",
+    "max_angular_accel",
+    "use_regulated_linear_velocity_scaling",
+    "regulated_linear_scaling_min_radius",
+    "regulated_linear_scaling_min_speed",
+    "use_cost_regulated_linear_velocity_scaling",
+    "cost_scaling_dist",
+    "cost_scaling_gain",
+    "inflation_cost_scaling_factor",
+    "min_approach_linear_velocity",
+    "approach_velocity_scaling_dist",
+    "use_collision_detection",
+    "max_allowed_time_to_collision_up_to_carrot",
+    "goal_dist_tol",
+    "controller_frequency",
+)
+"""The parameters the kernel reads as they are (its constants name their indices)."""
+
+
 def settings_array(params: RegulatedPurePursuitParams) -> np.ndarray:
-    """``params`` as the float array :func:`~baobab.nav.rpp_kernel.rpp_step` reads."""
-    k, p = kernel, params
-    settings = np.zeros(k.SETTINGS_SIZE)
-    settings[k.DESIRED_LINEAR_VEL] = p.desired_linear_vel
-    settings[k.MAX_ANGULAR_VEL] = p.max_angular_vel
-    settings[k.LOOKAHEAD_DIST] = p.lookahead_dist
-    settings[k.MIN_LOOKAHEAD_DIST] = p.min_lookahead_dist
-    settings[k.MAX_LOOKAHEAD_DIST] = p.max_lookahead_dist
-    settings[k.LOOKAHEAD_TIME] = p.lookahead_time
-    settings[k.USE_VELOCITY_SCALED_LOOKAHEAD_DIST] = p.use_velocity_scaled_lookahead_dist
-    settings[k.USE_INTERPOLATION] = p.use_interpolation
-    settings[k.USE_ROTATE_TO_HEADING] = p.use_rotate_to_heading
-    settings[k.ROTATE_TO_HEADING_MIN_ANGLE] = p.rotate_to_heading_min_angle
-    settings[k.ROTATE_TO_HEADING_ANGULAR_VEL] = p.rotate_to_heading_angular_vel
-    settings[k.MAX_ANGULAR_ACCEL] = p.max_angular_accel
-    settings[k.USE_REGULATED_LINEAR_VELOCITY_SCALING] = p.use_regulated_linear_velocity_scaling
-    settings[k.REGULATED_LINEAR_SCALING_MIN_RADIUS] = p.regulated_linear_scaling_min_radius
-    settings[k.REGULATED_LINEAR_SCALING_MIN_SPEED] = p.regulated_linear_scaling_min_speed
-    settings[k.USE_COST_REGULATED_LINEAR_VELOCITY_SCALING] = (
-        p.use_cost_regulated_linear_velocity_scaling
-    )
-    settings[k.COST_SCALING_DIST] = p.cost_scaling_dist
-    settings[k.COST_SCALING_GAIN] = p.cost_scaling_gain
-    settings[k.INFLATION_COST_SCALING_FACTOR] = p.inflation_cost_scaling_factor
-    settings[k.MIN_APPROACH_LINEAR_VELOCITY] = p.min_approach_linear_velocity
-    settings[k.APPROACH_VELOCITY_SCALING_DIST] = p.approach_velocity_scaling_dist
-    settings[k.USE_COLLISION_DETECTION] = p.use_collision_detection
-    settings[k.MAX_ALLOWED_TIME_TO_COLLISION_UP_TO_CARROT] = (
-        p.max_allowed_time_to_collision_up_to_carrot
-    )
-    settings[k.GOAL_DIST_TOL] = p.goal_dist_tol
-    settings[k.CONTROLLER_FREQUENCY] = p.controller_frequency
+    """``params`` as the float array :func:`~baobab.nav.rpp_kernel.rpp_step` reads: each
+    parameter at the index of the kernel constant of its name in capitals."""
+    settings = np.zeros(kernel.SETTINGS_SIZE)
+    for name in _KERNEL_SETTINGS:
+        settings[getattr(kernel, name.upper())] = getattr(params, name)
     # ``max_robot_pose_search_dist or extent``: None and 0 both mean the half extent.
-    settings[k.MAX_ROBOT_POSE_SEARCH_DIST] = p.max_robot_pose_search_dist or math.nan
-    settings[k.SQUARE_EXPONENT] = 2.0
+    settings[kernel.MAX_ROBOT_POSE_SEARCH_DIST] = params.max_robot_pose_search_dist or math.nan
+    settings[kernel.SQUARE_EXPONENT] = 2.0
     settings.setflags(write=False)
     return settings

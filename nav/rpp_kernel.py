@@ -22,6 +22,13 @@ import math
 import numba
 import numpy as np
 
+from baobab.nav.costmap import (
+    FREE_SPACE,
+    INSCRIBED_INFLATED_OBSTACLE,
+    MAX_NON_OBSTACLE,
+    NO_INFORMATION,
+)
+
 OK = 0
 """A command was computed."""
 NO_POSE_NEAR = 1
@@ -70,10 +77,6 @@ OUT_CARROT_Y = 4
 OUT_EXTENT = 5
 OUT_SIZE = 6
 
-_FREE_SPACE = 0
-_INSCRIBED = 253
-_MAX_NON_OBSTACLE = 252
-_NO_INFORMATION = 255
 _SPLIT = 134217729.0  # 2**27 + 1: Dekker's split of a double into two halves
 _DBL_MIN = 2.2250738585072014e-308
 
@@ -231,7 +234,7 @@ def _cost(
     iy = math.floor((y - origin_y) / resolution)
     if 0 <= ix < grid.shape[1] and 0 <= iy < grid.shape[0]:
         return int(grid[iy, ix])
-    return _NO_INFORMATION
+    return NO_INFORMATION
 
 
 @numba.njit(cache=True, nogil=True)
@@ -373,12 +376,12 @@ def rpp_step(
                 curvature_speed = speed * radius / s[REGULATED_LINEAR_SCALING_MIN_RADIUS]
         pose_cost = _cost(grid, origin_x, origin_y, resolution, x, y)
         if s[USE_COST_REGULATED_LINEAR_VELOCITY_SCALING] != 0.0 and pose_cost not in (
-            _NO_INFORMATION,
-            _FREE_SPACE,
+            NO_INFORMATION,
+            FREE_SPACE,
         ):
             # Invert the inflation formula: the distance to the nearest obstacle.
             distance = (-1.0 / s[INFLATION_COST_SCALING_FACTOR]) * math.log(
-                pose_cost / _MAX_NON_OBSTACLE
+                pose_cost / MAX_NON_OBSTACLE
             ) + inscribed_radius
             if distance < s[COST_SCALING_DIST]:
                 cost_speed = speed * s[COST_SCALING_GAIN] * distance / s[COST_SCALING_DIST]
@@ -403,7 +406,7 @@ def rpp_step(
     if s[USE_COLLISION_DETECTION] == 0.0:
         return OK
     cost = _cost(grid, origin_x, origin_y, resolution, x, y)
-    if cost != _NO_INFORMATION and cost >= _INSCRIBED:
+    if cost != NO_INFORMATION and cost >= INSCRIBED_INFLATED_OBSTACLE:
         return COLLISION_AHEAD
     if abs(linear) < 0.01:
         # A circular robot turning in place sweeps no new cells.
@@ -419,6 +422,6 @@ def rpp_step(
         if python_hypot(px - x, py - y) > carrot_dist:
             break
         cost = _cost(grid, origin_x, origin_y, resolution, px, py)
-        if cost != _NO_INFORMATION and cost >= _INSCRIBED:
+        if cost != NO_INFORMATION and cost >= INSCRIBED_INFLATED_OBSTACLE:
             return COLLISION_AHEAD
     return OK
