@@ -19,7 +19,7 @@ from baobab.nav.errors import CollisionAheadError, FollowPathError, NavigationEr
 from baobab.nav.footprint import in_collision
 from baobab.nav.path import Path
 from baobab.nav.pure_pursuit import RegulatedPurePursuit, RegulatedPurePursuitParams
-from baobab.nav.rpp_kernel import pairwise_sum, python_hypot
+from baobab.sim.float_semantics import pairwise_sum, python_hypot
 from baobab.sim.world import Pose2D
 
 

@@ -33,6 +33,7 @@ import numpy as np
 
 from baobab.sim import native_control
 from baobab.sim.errors import SimulationError
+from baobab.sim.float_semantics import py_max, py_min
 from baobab.sim.mujoco_native import mj_get_state, pointer, remainder
 from baobab.sim.native_control import STATE_TIME
 from baobab.sim.simulation import Simulation
@@ -106,21 +107,16 @@ Loop: TypeAlias = Any
 @numba.njit(cache=True, nogil=True)
 def _control_tick(loop: Loop, qpos: np.ndarray, ctrl: np.ndarray, time: float) -> None:
     """Ramp toward cmd_vel, command the wheels, integrate odometry (the Python base's tick)."""
-    # min/max spelled as CPython's builtins pick, so ties give the same float (and zero sign).
+    # min/max as CPython's builtins choose, so ties give the same float (and zero sign).
     linear, angular = loop.commanded_linear, loop.commanded_angular
-    low = linear - loop.linear_step
-    linear = low if low > loop.target_linear else loop.target_linear
-    high = loop.commanded_linear + loop.linear_step
-    linear = high if high < linear else linear
-    low = angular - loop.angular_step
-    angular = low if low > loop.target_angular else loop.target_angular
-    high = loop.commanded_angular + loop.angular_step
-    angular = high if high < angular else angular
+    step = loop.linear_step
+    linear = py_min(py_max(loop.target_linear, linear - step), linear + step)
+    step = loop.angular_step
+    angular = py_min(py_max(loop.target_angular, angular - step), angular + step)
     loop.commanded_linear, loop.commanded_angular = linear, angular
     half = loop.half_separation
     left, right = linear - angular * half, linear + angular * half
-    widest = abs(right) if abs(right) > abs(left) else abs(left)
-    excess = widest / loop.max_wheel_speed
+    excess = py_max(abs(left), abs(right)) / loop.max_wheel_speed
     if excess > 1.0:
         left, right = left / excess, right / excess
     ctrl[loop.left_actuator] = left / loop.wheel_radius
