@@ -169,7 +169,7 @@ class Lidar:
                 self._directions,
                 self.angle_min,
                 self.angle_increment,
-                *self._geom_arrays,
+                self._geom_arrays,
                 self._geomgroup,
                 self.range_min,
                 self.range_max,

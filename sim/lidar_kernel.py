@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any, cast
+from typing import Any, TypeAlias, cast
 
 import llvmlite.ir
 import mujoco
@@ -57,6 +57,13 @@ def _fma_intrinsic(typingctx: Any, a: Any, b: Any, c: Any) -> Any:  # pragma: no
 
 _fma = cast(Callable[[float, float, float], float], _fma_intrinsic)
 """``a * b + c`` with one rounding (compiled code only)."""
+
+
+Geometry: TypeAlias = tuple[np.ndarray, ...]
+"""MuJoCo's arrays the caster reads, in this order: ``data.geom_xpos``, ``data.geom_xmat``,
+``model.geom_size``, ``geom_rbound``, ``geom_type``, ``geom_group``, ``geom_matid``,
+``geom_rgba``, ``mat_rgba``, ``geom_aabb``, ``geom_bodyid``, ``body_bvhadr``, ``bvh_aabb``,
+``data.xipos``."""
 
 
 @numba.njit(cache=True, nogil=True)
@@ -232,20 +239,7 @@ def cast_fan(
     directions: np.ndarray,
     angle_min: float,
     angle_increment: float,
-    geom_xpos: np.ndarray,
-    geom_xmat: np.ndarray,
-    geom_size: np.ndarray,
-    geom_rbound: np.ndarray,
-    geom_type: np.ndarray,
-    geom_group: np.ndarray,
-    geom_matid: np.ndarray,
-    geom_rgba: np.ndarray,
-    mat_rgba: np.ndarray,
-    geom_aabb: np.ndarray,
-    geom_bodyid: np.ndarray,
-    body_bvhadr: np.ndarray,
-    bvh_aabb: np.ndarray,
-    xipos: np.ndarray,
+    geometry: Geometry,
     geomgroup: np.ndarray,
     reach: float,
     best: np.ndarray,
@@ -257,7 +251,7 @@ def cast_fan(
         rotation: the sensor's rotation matrix (9,), row-major; the beams lie in its x-y plane.
         directions: the beams (n, 3), world frame; beam ``i`` is the sensor-frame unit vector
             at angle ``angle_min + i * angle_increment`` (rad) rotated by ``rotation``.
-        geom_xpos .. xipos: the model's and data's arrays of the same names.
+        geometry: the model's and data's arrays :data:`Geometry` names, in its order.
         geomgroup: 1 for each geom group the beams see (``mjNGROUP``,).
         reach: hits farther than this (m) may be reported as misses.
         best: out (n,): distance to the nearest hit, -1 where the beam hits nothing.
@@ -267,6 +261,22 @@ def cast_fan(
         handle (hfield, mesh, sdf), or has outgrown the volumes ``mj_multiRay`` culls with
         (:func:`_culled_like_mujoco`): use ``mj_multiRay`` then.
     """
+    (
+        geom_xpos,
+        geom_xmat,
+        geom_size,
+        geom_rbound,
+        geom_type,
+        geom_group,
+        geom_matid,
+        geom_rgba,
+        mat_rgba,
+        geom_aabb,
+        geom_bodyid,
+        body_bvhadr,
+        bvh_aabb,
+        xipos,
+    ) = geometry
     beams = directions.shape[0]
     ngeom = geom_type.shape[0]
     best[:] = -1.0
@@ -412,20 +422,7 @@ def scan_fan(
     directions: np.ndarray,
     angle_min: float,
     angle_increment: float,
-    geom_xpos: np.ndarray,
-    geom_xmat: np.ndarray,
-    geom_size: np.ndarray,
-    geom_rbound: np.ndarray,
-    geom_type: np.ndarray,
-    geom_group: np.ndarray,
-    geom_matid: np.ndarray,
-    geom_rgba: np.ndarray,
-    mat_rgba: np.ndarray,
-    geom_aabb: np.ndarray,
-    geom_bodyid: np.ndarray,
-    body_bvhadr: np.ndarray,
-    bvh_aabb: np.ndarray,
-    xipos: np.ndarray,
+    geometry: Geometry,
     geomgroup: np.ndarray,
     range_min: float,
     range_max: float,
@@ -445,20 +442,7 @@ def scan_fan(
         directions,
         angle_min,
         angle_increment,
-        geom_xpos,
-        geom_xmat,
-        geom_size,
-        geom_rbound,
-        geom_type,
-        geom_group,
-        geom_matid,
-        geom_rgba,
-        mat_rgba,
-        geom_aabb,
-        geom_bodyid,
-        body_bvhadr,
-        bvh_aabb,
-        xipos,
+        geometry,
         geomgroup,
         range_max + _SLACK,
         best,
