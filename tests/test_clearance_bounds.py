@@ -22,8 +22,8 @@ def test_bounds_hold_and_the_search_equals_the_exhaustive_one(world: str) -> Non
     footprint = model.geom(robot.names.footprint_geom).id
     static = np.flatnonzero(model.geom_group == STATIC_GROUP)
     movable = np.flatnonzero(model.geom_group == MOVABLE_GROUP)
-    clearance = ClearanceBounds(model, data, footprint, static, movable)
     obstacles = np.concatenate((static, movable)).tolist()
+    clearance = ClearanceBounds(model, data, footprint, np.array(obstacles))
     root = data.joint(robot.names.root_joint)
     slots = [model.body(f"movable_{i}").mocapid[0] for i in range(len(movable))]
     rng = np.random.default_rng(5)

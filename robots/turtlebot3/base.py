@@ -25,7 +25,7 @@ from baobab.robots.turtlebot3.model import (
     BurgerFacts,
     TurtleBot3Names,
 )
-from baobab.sim.builder import FLOOR_GROUP, MOVABLE_GROUP, STATIC_GROUP
+from baobab.sim.builder import FLOOR_GROUP
 from baobab.sim.errors import SimulationError
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.world import Pose2D
@@ -95,13 +95,8 @@ class DiffDriveBase:
         self._is_robot_geom[self._robot_geoms] = True
         self._is_floor_geom = model.geom_group == FLOOR_GROUP
         self._footprint = model.geom(self.names.footprint_geom).id
-        self._clearance_bounds = ClearanceBounds(
-            model,
-            data,
-            self._footprint,
-            np.flatnonzero(model.geom_group == STATIC_GROUP),
-            np.flatnonzero(model.geom_group == MOVABLE_GROUP),
-        )
+        obstacles = np.flatnonzero(np.isin(model.geom_group, OBSTACLE_GROUPS))
+        self._clearance_bounds = ClearanceBounds(model, data, self._footprint, obstacles)
         self._loop = self._start_loop(sim, model)
         self._reset_odometry()
         self.handle: PeriodicHandle = sim.add_native(self._catch_up, name=f"{prefix}base")

@@ -120,8 +120,8 @@ class ClearanceBounds:
     Args:
         model, data: the simulation's model and data (``data`` kinematics up to date).
         footprint: id of the footprint cylinder geom.
-        static_geoms: ids of geoms that never move or change size.
-        movable_geoms: ids of geoms that move or are resized at run time.
+        obstacles: ids of the obstacle geoms (static and movable: every bound is computed
+            from the current state).
     """
 
     def __init__(
@@ -129,11 +129,10 @@ class ClearanceBounds:
         model: mujoco.MjModel,
         data: mujoco.MjData,
         footprint: int,
-        static_geoms: np.ndarray,
-        movable_geoms: np.ndarray,
+        obstacles: np.ndarray,
     ) -> None:
         self._footprint = int(footprint)
-        self._geoms = np.concatenate((static_geoms, movable_geoms)).astype(np.int64)
+        self._geoms = np.asarray(obstacles, dtype=np.int64)
         self._bounds = np.empty(self._geoms.shape[0])
         # The struct addresses and array views, read once: each attribute read makes a view.
         self._addresses = (address(model), address(data))
