@@ -13,6 +13,7 @@ is a lower bound: a limit crossed here is crossed in the loader too.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import yaml
@@ -83,41 +84,65 @@ def scan_limits(text: str, max_values: int, max_depth: int) -> ScanProblem | Sca
     from yaml._yaml import CParser  # present whenever libyaml_available() is True
 
     parser = CParser(text)
+    try:
+        return _scan_events(parser.get_event, max_values, max_depth)
+    except yaml.MarkedYAMLError as exc:
+        if LIBYAML_DEPTH_LIMIT not in str(exc.problem):
+            return _syntax_problem(exc)
+    finally:
+        parser.dispose()
+    # libyaml's scanner reads ahead over tightly packed brackets (``[[[[...``) and stops at its
+    # own nesting limit (1000 levels) before the parser reports the level that crossed ours.
+    # PyYAML's pure-Python parser has no such limit and also keeps its own stack.
+    events = yaml.parse(text, Loader=yaml.SafeLoader)
+    try:
+        return _scan_events(lambda: next(events, None), max_values, max_depth)
+    except yaml.MarkedYAMLError as exc:
+        return _syntax_problem(exc)
+
+
+LIBYAML_DEPTH_LIMIT = "maximum nesting depth"
+"""Words of libyaml's own error when flow collections nest past its limit (libyaml >= 0.2.5)."""
+
+
+def _scan_events(
+    next_event: Callable[[], yaml.Event | None], max_values: int, max_depth: int
+) -> ScanProblem | ScanResult:
+    """The scan of :func:`scan_limits` over a parser's events (raises its syntax errors)."""
     values = 0
     depth = 0
     keys_open = 0  # collections open inside a mapping key (their contents are not values)
     frames: list[list[int]] = []  # per open collection: [is_mapping, children so far, is_key]
-    try:
-        while True:
-            event = parser.get_event()
-            if isinstance(event, _NODE_EVENTS):
-                top = frames[-1] if frames else None
-                is_key = keys_open > 0 or (top is not None and top[0] == 1 and top[1] % 2 == 0)
-                if not is_key:
-                    values += 1
-                    level = len(frames)
-                    if values > max_values:
-                        return _problem(event, f"more than {max_values} values")
-                    if level > max_depth:
-                        return _problem(event, f"nesting deeper than {max_depth} levels")
-                    depth = max(depth, level)
-                if isinstance(event, _START_EVENTS):
-                    frames.append([int(isinstance(event, yaml.MappingStartEvent)), 0, int(is_key)])
-                    keys_open += is_key
-                elif top is not None:
-                    top[1] += 1
-            elif isinstance(event, _END_EVENTS):
-                keys_open -= frames.pop()[2]
-                if frames:
-                    frames[-1][1] += 1
-            elif event is None or isinstance(event, _LAST_EVENTS):
-                return ScanResult(values, depth)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line, column = (mark.line + 1, mark.column + 1) if mark else (1, 1)
-        return ScanProblem(line, column, f"YAML syntax error: {exc.problem or exc.context}")
-    finally:
-        parser.dispose()
+    while True:
+        event = next_event()
+        if isinstance(event, _NODE_EVENTS):
+            top = frames[-1] if frames else None
+            is_key = keys_open > 0 or (top is not None and top[0] == 1 and top[1] % 2 == 0)
+            if not is_key:
+                values += 1
+                level = len(frames)
+                if values > max_values:
+                    return _problem(event, f"more than {max_values} values")
+                if level > max_depth:
+                    return _problem(event, f"nesting deeper than {max_depth} levels")
+                depth = max(depth, level)
+            if isinstance(event, _START_EVENTS):
+                frames.append([int(isinstance(event, yaml.MappingStartEvent)), 0, int(is_key)])
+                keys_open += is_key
+            elif top is not None:
+                top[1] += 1
+        elif isinstance(event, _END_EVENTS):
+            keys_open -= frames.pop()[2]
+            if frames:
+                frames[-1][1] += 1
+        elif event is None or isinstance(event, _LAST_EVENTS):
+            return ScanResult(values, depth)
+
+
+def _syntax_problem(exc: yaml.MarkedYAMLError) -> ScanProblem:
+    mark = exc.problem_mark or exc.context_mark
+    line, column = (mark.line + 1, mark.column + 1) if mark else (1, 1)
+    return ScanProblem(line, column, f"YAML syntax error: {exc.problem or exc.context}")
 
 
 def _problem(event: yaml.Event, message: str) -> ScanProblem:
