@@ -3,16 +3,51 @@
 :class:`LiveProgress` redraws one status block (current leaf, distance remaining, ETA, task
 i/n, sim time and speed-up) at most ten times per wall-clock second. :class:`LineProgress`
 writes a line when the running leaf changes and every ``every`` seconds of sim time, for logs
-and pipes. Both write to the stream they are given (stderr when ``--json`` owns stdout).
+and pipes. Both write to the stream they are given (stderr when ``--json`` owns stdout). Each
+splits ``update`` into ``due`` (which snapshots are shown) and ``draw``, so a run in another
+process sends only the snapshots that are shown (:mod:`baobab.missions.run_process`).
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Mapping
-from typing import IO, Any
+from dataclasses import dataclass
+from typing import IO, Any, Protocol
 
-from baobab.missions.run_loop import ProgressSnapshot
+
+@dataclass(frozen=True)
+class ProgressSnapshot:
+    """What a progress display shows, once per tick.
+
+    Attributes:
+        sim_time: s.
+        wall_time: s since the loop started.
+        timeout: the mission timeout (s of sim time).
+        leaf: label of the running leaf (the first in tree order), or "".
+        distance_remaining: from the running task's feedback (m), if it reports one.
+        eta: estimated time remaining (s of sim time), if known.
+        step: (index of the running task leaf, number of task leaves), 1-based, if any runs.
+        waypoint: the task's current waypoint (1-based), if it reports one.
+    """
+
+    sim_time: float
+    wall_time: float
+    timeout: float
+    leaf: str
+    distance_remaining: float | None
+    eta: float | None
+    step: tuple[int, int] | None
+    waypoint: int | None
+
+
+class ProgressSink(Protocol):
+    """Receives a snapshot after every tick (and throttles its own output)."""
+
+    def update(self, snapshot: ProgressSnapshot) -> None:
+        """Show progress."""
+        ...
+
 
 REDRAW_PERIOD = 0.1
 """Least wall time between two redraws of the live display (s)."""
@@ -49,10 +84,19 @@ class LineProgress:
 
     def update(self, snapshot: ProgressSnapshot) -> None:
         """Write a line on a new leaf or when ``every`` s of sim time have passed."""
+        if self.due(snapshot):
+            self.draw(snapshot)
+
+    def due(self, snapshot: ProgressSnapshot) -> bool:
+        """Whether ``snapshot`` gets a line (a new leaf, or ``every`` s of sim time passed)."""
         if snapshot.leaf == self._leaf and snapshot.sim_time < self._next:
-            return
+            return False
         self._leaf = snapshot.leaf
         self._next = snapshot.sim_time + self.every
+        return True
+
+    def draw(self, snapshot: ProgressSnapshot) -> None:
+        """Write the line of ``snapshot``."""
         self.stream.write(describe(snapshot) + "\n")
         self.stream.flush()
 
@@ -80,10 +124,19 @@ class LiveProgress:
 
     def update(self, snapshot: ProgressSnapshot) -> None:
         """Redraw, at most every :data:`REDRAW_PERIOD` of wall time."""
+        if self.due(snapshot):
+            self.draw(snapshot)
+
+    def due(self, _snapshot: ProgressSnapshot) -> bool:
+        """Whether a redraw is due: :data:`REDRAW_PERIOD` of wall time since the last one."""
         now = time.monotonic()
         if now - self._last < REDRAW_PERIOD:
-            return
+            return False
         self._last = now
+        return True
+
+    def draw(self, snapshot: ProgressSnapshot) -> None:
+        """Redraw the status block with ``snapshot``."""
         from rich.text import Text
 
         fraction = min(1.0, snapshot.sim_time / snapshot.timeout) if snapshot.timeout else 0.0

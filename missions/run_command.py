@@ -23,13 +23,15 @@ import os
 import signal
 import sys
 import threading
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from types import FrameType
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+from baobab.missions.cli import EXIT_NOT_INTENDED
 from baobab.missions.loader import load_mission
 from baobab.missions.recording_hook import (
     DEFAULT_FPS,
@@ -42,7 +44,9 @@ from baobab.sim.errors import BaobabError
 
 if TYPE_CHECKING:
     from baobab.missions.baseline import Baseline
+    from baobab.missions.plotting import PlotData
     from baobab.missions.progress import LineProgress, LiveProgress
+    from baobab.missions.run_loop import ProgressSnapshot
     from baobab.missions.runner import RunRecord
 
 
@@ -137,10 +141,11 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
 
         baseline = read_baseline(args.baseline, mission.name)
     # The simulation stack (MuJoCo, NumPy, the robots) loads only once the mission is valid,
-    # so a bad mission is refused as fast as by `baobab validate`.
+    # so a bad mission is refused as fast as by `baobab validate`; it loads in the run's own
+    # process, and the plotting stack in this one (see run_process).
     from baobab.missions.progress import LineProgress, LiveProgress, print_summary
     from baobab.missions.run_folder import check_run_folder, default_run_folder, write_run_folder
-    from baobab.missions.runner import run_mission
+    from baobab.missions.run_process import ChildProcessDiedError, run_in_child
 
     folder: Path = args.out if args.out is not None else default_run_folder(mission.name)
     check_run_folder(folder)
@@ -162,29 +167,80 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
                 "first run on this machine: compiling baobab's kernels "
                 "(about a minute; later runs load them from the cache)\n"
             )
-        try:
+
+        def simulate(send: Callable[[RunMessage], None]) -> FinishedRun:
+            """The run, in its own process: progress and warnings go to ``send``."""
+            from baobab.missions.runner import run_mission
+
             record = run_mission(
                 mission,
                 seed=args.seed,
-                progress=progress,
+                progress=ForwardedProgress(progress, send),
                 realtime=args.realtime,
                 recording=recording,
                 interrupted=interrupted.is_set,
-                warn=_warn,
+                warn=lambda message: send(("warn", message)),
             )
+            if args.baseline is not None:
+                _baseline(record, args.baseline, baseline, lambda note: send(("note", note)))
+            return FinishedRun(
+                record.result_object(folder), record.trace.text(), record.plot, record.exit_code
+            )
+
+        def show(message: RunMessage) -> None:
+            kind, payload = message
+            if kind == "progress":
+                progress.draw(payload)
+            elif kind == "warn":
+                _warn(payload)
+            else:
+                print(payload, file=sys.stderr)
+
+        try:
+            finished = run_in_child(simulate, show)
+        except ChildProcessDiedError as exc:
+            print(f"baobab run: {exc}; no run folder was written", file=sys.stderr)
+            return EXIT_NOT_INTENDED
         finally:
             progress.close()
-        if args.baseline is not None:
-            _baseline(record, args.baseline, baseline)
-        result = record.result_object(folder)
-        write_run_folder(folder, result, record.trace.text(), record.plot)
+        write_run_folder(folder, finished.result, finished.trace_text, finished.plot)
+    result = finished.result
     if args.json:
         sys.stdout.write(json.dumps(result) + "\n")
         sys.stdout.flush()
     else:
         print_summary(sys.stdout, result, rich=live)
         _print_recording(result.get("recording", {}))
-    return record.exit_code
+    return finished.exit_code
+
+
+RunMessage = tuple[str, Any]
+"""What the run's process tells this one: ("progress", snapshot), ("warn", text), ("note", text)."""
+
+
+@dataclass(frozen=True)
+class FinishedRun:
+    """What the run's process sends back: all the run folder and the report need."""
+
+    result: dict[str, Any]
+    trace_text: str
+    plot: PlotData | None
+    exit_code: int
+
+
+class ForwardedProgress:
+    """Sends the snapshots ``display`` would show (its ``due``) to be drawn by the parent."""
+
+    def __init__(
+        self, display: LineProgress | LiveProgress, send: Callable[[RunMessage], None]
+    ) -> None:
+        self.display = display
+        self.send = send
+
+    def update(self, snapshot: ProgressSnapshot) -> None:
+        """Send ``snapshot`` when the display shows it."""
+        if self.display.due(snapshot):
+            self.send(("progress", snapshot))
 
 
 def _print_recording(outputs: Mapping[str, object]) -> None:
@@ -236,7 +292,9 @@ def _warn(message: str) -> None:
     print(f"baobab run: {message}", file=sys.stderr)
 
 
-def _baseline(record: RunRecord, path: Path, baseline: Baseline | None) -> None:
+def _baseline(
+    record: RunRecord, path: Path, baseline: Baseline | None, note: Callable[[str], None]
+) -> None:
     """Compare with the baseline, or create it from a run that turned out as intended."""
     from baobab.missions.baseline import compare, write_baseline
 
@@ -249,7 +307,7 @@ def _baseline(record: RunRecord, path: Path, baseline: Baseline | None) -> None:
             path, record.mission.name, record.seed, record.mission.params, record.metrics
         )
         record.extra["baseline"] = {"file": str(path), "status": "created"}
-        print(f"baseline created: {path}", file=sys.stderr)
+        note(f"baseline created: {path}")
         return
     record.extra["baseline"] = {
         "file": str(path),

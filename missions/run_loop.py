@@ -27,6 +27,7 @@ import py_trees
 from baobab.behaviours.actions import GoalTaskLeaf
 from baobab.missions.compiler import CompiledMission
 from baobab.missions.events import TimedEvents
+from baobab.missions.progress import ProgressSink, ProgressSnapshot
 from baobab.missions.robots_wiring import Rig
 from baobab.missions.trace import Trace
 from baobab.sim.errors import SimulationError
@@ -79,39 +80,6 @@ class LoopOutcome:
     error_msg: str
     sim_time: float
     interrupted: bool = False
-
-
-@dataclass(frozen=True)
-class ProgressSnapshot:
-    """What a progress display shows, once per tick.
-
-    Attributes:
-        sim_time: s.
-        wall_time: s since the loop started.
-        timeout: the mission timeout (s of sim time).
-        leaf: label of the running leaf (the first in tree order), or "".
-        distance_remaining: from the running task's feedback (m), if it reports one.
-        eta: estimated time remaining (s of sim time), if known.
-        step: (index of the running task leaf, number of task leaves), 1-based, if any runs.
-        waypoint: the task's current waypoint (1-based), if it reports one.
-    """
-
-    sim_time: float
-    wall_time: float
-    timeout: float
-    leaf: str
-    distance_remaining: float | None
-    eta: float | None
-    step: tuple[int, int] | None
-    waypoint: int | None
-
-
-class ProgressSink(Protocol):
-    """Receives a snapshot after every tick (and throttles its own output)."""
-
-    def update(self, snapshot: ProgressSnapshot) -> None:
-        """Show progress."""
-        ...
 
 
 class FaultWatch(Protocol):

@@ -23,6 +23,10 @@ class SourceError(BaobabError):
         self.message = message.replace("\r", "\\r").replace("\n", "\\n")
         super().__init__(f"{self.path}:{line}:{column}: {self.message}")
 
+    def __reduce__(self) -> tuple[type[SourceError], tuple[str, int, int, str]]:
+        """Pickle by the located fields (``args`` holds only the formatted line)."""
+        return type(self), (self.path, self.line, self.column, self.message)
+
 
 class WorldError(SourceError):
     """A world description that cannot be loaded or built."""

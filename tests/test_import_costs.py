@@ -120,14 +120,15 @@ def test_importing_sim_errors_does_not_load_mujoco_or_the_world_loader() -> None
 def test_a_mobile_run_reaches_its_first_tick_without_arm_or_display_modules(
     mission: str, must_not_load: tuple[str, ...], tmp_path: Path
 ) -> None:
-    # The first progress line is written at the first tree tick: snapshot sys.modules there.
+    # The first progress line is due at the first tree tick: snapshot sys.modules there, in
+    # the run's process (SystemExit reaches the parent, which exits with it).
     script = (
-        "import json, os, sys\n"
+        "import json, sys\n"
         "from baobab.missions import progress\n"
         "def first_tick(self, snapshot):\n"
         "    print(json.dumps(sorted(sys.modules)), flush=True)\n"
-        "    os._exit(0)\n"
-        "progress.LineProgress.update = first_tick\n"
+        "    raise SystemExit(0)\n"
+        "progress.LineProgress.due = first_tick\n"
         "from baobab.missions.cli import main\n"
         f"main(['run', {mission!r}, '--out', {str(tmp_path / 'run')!r}])\n"
         "raise SystemExit('the mission never ticked')\n"

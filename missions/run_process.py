@@ -1,0 +1,165 @@
+"""A job in a forked child process, with its messages and its result sent back through a pipe.
+
+``baobab run`` simulates in a child and writes the run folder in the parent, so the simulation
+stack (MuJoCo, numba's LLVM and the compiled kernels) and the plotting stack (matplotlib) are
+never in one process: the peak memory of a run is the larger of the two, not their sum, and a
+crash in native code (MuJoCo, a kernel) ends the run with a message naming the signal.
+
+The child is forked after the mission is loaded, so it starts from the parent's state with no
+second start-up. It runs in a process group of its own: the parent forwards each SIGINT it gets
+(the terminal's Ctrl-C reaches only the parent), so the first one ends the run gracefully and a
+second one interrupts it, exactly as in one process. Where ``os.fork`` does not exist, the job
+runs in the calling process.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import pickle
+import signal
+import sys
+import threading
+import traceback
+from collections.abc import Callable
+from multiprocessing.connection import Connection, Pipe
+from typing import Any, NoReturn, TypeVar
+
+from baobab.sim.errors import BaobabError, SourceError
+
+T = TypeVar("T")
+Send = Callable[[Any], None]
+
+_MESSAGE, _RETURN, _RAISE = "message", "return", "raise"
+
+
+class ChildProcessDiedError(BaobabError):
+    """The child process ended without sending its result (killed, or a crash in native code)."""
+
+
+def run_in_child(job: Callable[[Send], T], on_message: Send) -> T:
+    """Run ``job(send)`` in a forked child and return what it returns.
+
+    Args:
+        job: called in the child with ``send``, which passes a picklable message to
+            ``on_message`` in the parent; what it returns (or raises) must be picklable.
+        on_message: called in the parent with each message, in order.
+
+    Raises:
+        BaseException: what ``job`` raised (KeyboardInterrupt and baobab's errors keep their
+            type; an exception that cannot be pickled arrives as a RuntimeError with the
+            child's traceback).
+        ChildProcessDiedError: the child ended without a result.
+    """
+    if not hasattr(os, "fork"):
+        return job(on_message)
+    forwarding = threading.current_thread() is threading.main_thread()
+    reader, writer = Pipe(duplex=False)
+    for stream in (sys.stdout, sys.stderr):
+        stream.flush()
+    pid = os.fork()
+    if pid == 0:
+        _child(job, reader, writer, own_group=forwarding)
+    writer.close()
+    child = _Child(pid)
+    previous = None
+    if forwarding:
+        _join_own_group(pid)
+        previous = signal.signal(signal.SIGINT, lambda _signum, _frame: child.interrupt())
+    finished = False
+    try:
+        result = _receive(reader, on_message, child)
+        finished = True
+        return result
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
+        reader.close()
+        if not finished:
+            child.kill()
+        child.wait()
+
+
+class _Child:
+    """The forked child, reaped exactly once (a reaped pid may be reused by another process)."""
+
+    def __init__(self, pid: int) -> None:
+        self.pid = pid
+        self.status: int | None = None
+
+    def interrupt(self) -> None:
+        """Forward a SIGINT."""
+        if self.status is None:
+            os.kill(self.pid, signal.SIGINT)
+
+    def wait(self) -> int:
+        """The child's exit status, once it has ended."""
+        if self.status is None:
+            self.status = os.waitpid(self.pid, 0)[1]
+        return self.status
+
+    def kill(self) -> None:
+        """End the child at once (the parent is leaving early); not yet reaped, it is ours."""
+        if self.status is None:
+            os.kill(self.pid, signal.SIGKILL)
+
+    def death(self) -> str:
+        """How the child ended without a result, for people."""
+        status = self.wait()
+        if os.WIFSIGNALED(status):
+            number = os.WTERMSIG(status)
+            return f"the run's process was ended by signal {number} ({signal.Signals(number).name})"
+        return f"the run's process exited with status {os.WEXITSTATUS(status)} without a result"
+
+
+def _child(
+    job: Callable[[Send], Any], reader: Connection, writer: Connection, *, own_group: bool
+) -> NoReturn:
+    reader.close()
+    if own_group:
+        _join_own_group(0)
+    try:
+        try:
+            value = job(lambda message: writer.send((_MESSAGE, message)))
+            writer.send((_RETURN, value))
+        except BaseException as exc:  # every outcome goes to the parent
+            writer.send((_RAISE, _portable(exc)))
+    except BaseException:  # the parent is gone: nobody to tell
+        pass
+    finally:
+        os._exit(0)
+
+
+def _receive(reader: Connection, on_message: Send, child: _Child) -> Any:
+    while True:
+        try:
+            kind, payload = reader.recv()
+        except EOFError:
+            raise ChildProcessDiedError(child.death()) from None
+        if kind == _MESSAGE:
+            on_message(payload)
+        elif kind == _RETURN:
+            return payload
+        else:
+            raise payload
+
+
+def _portable(exc: BaseException) -> BaseException:
+    """``exc`` if it survives pickling, else the nearest exception that does."""
+    try:
+        pickle.loads(pickle.dumps(exc))
+        return exc
+    except Exception:  # any pickling failure
+        pass
+    if isinstance(exc, SourceError):
+        return SourceError(exc.path, exc.line, exc.column, exc.message)
+    if isinstance(exc, BaobabError):
+        return BaobabError(str(exc))
+    text = "".join(traceback.format_exception(exc))
+    return RuntimeError(f"in the run's process:\n{text}")
+
+
+def _join_own_group(pid: int) -> None:
+    """Put the child in a process group of its own (called on both sides to close the race)."""
+    with contextlib.suppress(OSError):  # done by the other side already, or the child ended
+        os.setpgid(pid, pid if pid else 0)
