@@ -145,7 +145,7 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
     # process, and the plotting stack in this one (see run_process).
     from baobab.missions.progress import LineProgress, LiveProgress, print_summary
     from baobab.missions.run_folder import check_run_folder, default_run_folder, write_run_folder
-    from baobab.missions.run_process import ChildProcessDiedError, run_in_child
+    from baobab.missions.run_process import ChildProcessDiedError, fork_is_safe, run_in_child
 
     folder: Path = args.out if args.out is not None else default_run_folder(mission.name)
     check_run_folder(folder)
@@ -197,7 +197,7 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
                 print(payload, file=sys.stderr)
 
         try:
-            finished = run_in_child(simulate, show)
+            finished = run_in_child(simulate, show) if fork_is_safe() else simulate(show)
         except ChildProcessDiedError as exc:
             print(f"baobab run: {exc}; no run folder was written", file=sys.stderr)
             return EXIT_NOT_INTENDED

@@ -13,10 +13,12 @@ import shutil
 from collections.abc import Mapping
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from baobab.missions.plotting import PlotData, save_plot
 from baobab.sim.errors import BaobabError
+
+if TYPE_CHECKING:
+    from baobab.missions.plotting import PlotData
 
 RESULT_FILE = "result.json"
 TRACE_FILE = "trace.jsonl"
@@ -80,6 +82,10 @@ def write_run_folder(
         )
         (temporary / TRACE_FILE).write_text(trace_text, encoding="utf-8")
         if plot is not None:
+            # Imported here: `baobab run` checks the run folder before the run's process is
+            # forked, and that process must start single-threaded (NumPy's BLAS starts threads).
+            from baobab.missions.plotting import save_plot
+
             save_plot(plot, temporary / PLOT_FILE)
         if folder.is_dir():
             folder.rmdir()  # empty, checked above

@@ -8,8 +8,13 @@ crash in native code (MuJoCo, a kernel) ends the run with a message naming the s
 The child is forked after the mission is loaded, so it starts from the parent's state with no
 second start-up. It runs in a process group of its own: the parent forwards each SIGINT it gets
 (the terminal's Ctrl-C reaches only the parent), so the first one ends the run gracefully and a
-second one interrupts it, exactly as in one process. Where ``os.fork`` does not exist, the job
-runs in the calling process.
+second one interrupts it, exactly as in one process.
+
+Forking is safe only from a process with one thread: a lock another thread holds at the fork
+stays locked in the child for ever (seen here: a test process whose earlier runs had started
+Mesa's EGL threads hung the child in ``mujoco.Renderer``). :func:`fork_is_safe` says whether
+this process qualifies; ``baobab run`` runs in its own process when it does (the ``baobab``
+command, which loads no NumPy before the fork) and in the calling process when it does not.
 """
 
 from __future__ import annotations
@@ -37,6 +42,16 @@ class ChildProcessDiedError(BaobabError):
     """The child process ended without sending its result (killed, or a crash in native code)."""
 
 
+def fork_is_safe() -> bool:
+    """Whether this process can fork a child safely: Linux, and one thread (native ones too)."""
+    if not hasattr(os, "fork"):
+        return False
+    try:
+        return len(os.listdir("/proc/self/task")) == 1
+    except OSError:  # no procfs (macOS): forking after system frameworks start is not safe
+        return False
+
+
 def run_in_child(job: Callable[[Send], T], on_message: Send) -> T:
     """Run ``job(send)`` in a forked child and return what it returns.
 
@@ -50,9 +65,9 @@ def run_in_child(job: Callable[[Send], T], on_message: Send) -> T:
             type; an exception that cannot be pickled arrives as a RuntimeError with the
             child's traceback).
         ChildProcessDiedError: the child ended without a result.
+
+    Call it only where :func:`fork_is_safe` (or the job touches nothing other threads lock).
     """
-    if not hasattr(os, "fork"):
-        return job(on_message)
     forwarding = threading.current_thread() is threading.main_thread()
     reader, writer = Pipe(duplex=False)
     for stream in (sys.stdout, sys.stderr):
