@@ -7,7 +7,8 @@ path, or the name of a bundled mission ``missions/<name>.yaml``) and its ``--set
 baseline file, the run folder, the robot, the tree and the recorders; only then the run.
 SIGINT during the run stops it at the next tick: the tree is halted, the robot stopped, the
 result is CANCELED, the recordings are finished, the run folder is written, and the exit code
-is 130.
+is 130. The run itself happens in a forked process of its own and the run folder is written
+here (:mod:`baobab.missions.run_process`), unless this process already runs other threads.
 
 ``--viewer`` without a display prints a warning on stderr and runs headless (so a script that
 asks for the viewer still gets its run folder); with a display, and with ``--live``, the run is
@@ -45,8 +46,7 @@ from baobab.sim.errors import BaobabError
 if TYPE_CHECKING:
     from baobab.missions.baseline import Baseline
     from baobab.missions.plotting import PlotData
-    from baobab.missions.progress import LineProgress, LiveProgress
-    from baobab.missions.run_loop import ProgressSnapshot
+    from baobab.missions.progress import LineProgress, LiveProgress, ProgressSnapshot
     from baobab.missions.runner import RunRecord
 
 
