@@ -7,6 +7,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -50,14 +51,18 @@ def test_a_bug_in_the_child_keeps_its_type() -> None:
         run_in_child(job, print)
 
 
+# A lock cannot be pickled however exceptions are (tblib, which dask installs, pickles any
+# exception's __dict__ without calling __init__).
 class _UnpicklableError(BaobabError):
     def __init__(self, first: str, second: str) -> None:
         super().__init__(f"{first} and {second}")
+        self.lock = threading.Lock()
 
 
 class _UnpicklableBugError(Exception):
     def __init__(self, first: str, second: str) -> None:
         super().__init__(f"{first} and {second}")
+        self.lock = threading.Lock()
 
 
 @pytest.mark.parametrize(
