@@ -102,7 +102,7 @@ def scan_limits(text: str, max_values: int, max_depth: int) -> ScanProblem | Sca
 
 
 LIBYAML_DEPTH_LIMIT = "maximum nesting depth"
-"""Words of libyaml's own error when flow collections nest past its limit (libyaml >= 0.2.5)."""
+"""Words of libyaml's own error when collections nest past its limit (seen with libyaml 0.2.6)."""
 
 
 def _scan_events(
