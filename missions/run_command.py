@@ -187,10 +187,16 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
                 record.result_object(folder), record.trace.text(), record.plot, record.exit_code
             )
 
+        closed: list[bool] = []  # the progress stream was closed (`baobab run ... | head`)
+
         def show(message: RunMessage) -> None:
             kind, payload = message
             if kind == "progress":
-                progress.draw(payload)
+                if not closed:
+                    try:
+                        progress.draw(payload)
+                    except BrokenPipeError:
+                        closed.append(True)  # the run goes on and writes its folder
             elif kind == "warn":
                 _warn(payload)
             else:
@@ -205,12 +211,18 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
             progress.close()
         write_run_folder(folder, finished.result, finished.trace_text, finished.plot)
     result = finished.result
-    if args.json:
-        sys.stdout.write(json.dumps(result) + "\n")
-        sys.stdout.flush()
-    else:
-        print_summary(sys.stdout, result, rich=live)
-        _print_recording(result.get("recording", {}))
+    try:
+        if args.json:
+            sys.stdout.write(json.dumps(result) + "\n")
+            sys.stdout.flush()
+        else:
+            print_summary(sys.stdout, result, rich=live)
+            _print_recording(result.get("recording", {}))
+            sys.stdout.flush()
+    except BrokenPipeError:
+        # Nobody reads stdout any more; the run folder is written. Point stdout at devnull so
+        # the interpreter's last flush does not complain either.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
     return finished.exit_code
 
 

@@ -305,6 +305,25 @@ def test_viewer_without_a_display_warns_and_runs_headless(
     assert "baobab run: --viewer: no display" in err and "running headless" in err
 
 
+def test_a_reader_that_stops_early_neither_stops_the_run_nor_sees_a_traceback(tmp_path: Path) -> None:
+    # `baobab run MISSION | head -2`: the progress stream closes while the mission runs.
+    out = tmp_path / "run"
+    process = subprocess.Popen(
+        [BAOBAB, "run", str(_mission(tmp_path, WALK)), "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert process.stdout is not None and process.stderr is not None
+    assert process.stdout.readline().startswith("running ")
+    process.stdout.close()
+    err = process.stderr.read()
+    assert process.wait(timeout=300) == 0
+    assert "Traceback" not in err and "BrokenPipeError" not in err
+    assert json.loads((out / RESULT_FILE).read_text())["result"] == "SUCCEEDED"
+    _assert_complete_folder(out)
+
+
 def test_sigint_cancels_the_run_and_still_writes_the_folder(tmp_path: Path) -> None:
     body = WALK.replace("go_to_goal: goal_open", "wait: 50") + "expect:\n  result: SUCCEEDED\n"
     path = _mission(tmp_path, body)
