@@ -305,7 +305,7 @@ def test_viewer_without_a_display_warns_and_runs_headless(
     assert "baobab run: --viewer: no display" in err and "running headless" in err
 
 
-def test_a_reader_that_stops_early_neither_stops_the_run_nor_sees_a_traceback(tmp_path: Path) -> None:
+def test_a_reader_that_stops_early_gets_no_traceback_and_the_run_goes_on(tmp_path: Path) -> None:
     # `baobab run MISSION | head -2`: the progress stream closes while the mission runs.
     out = tmp_path / "run"
     process = subprocess.Popen(
