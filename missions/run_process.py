@@ -142,6 +142,9 @@ def _child(
     except BaseException:  # the parent is gone: nobody to tell
         pass
     finally:
+        for stream in (sys.stdout, sys.stderr):  # os._exit skips the interpreter's last flush
+            with contextlib.suppress(Exception):
+                stream.flush()
         os._exit(0)
 
 
