@@ -262,7 +262,8 @@ def arm_figures() -> list[Figure]:
 
 def _shared_libraries() -> list[Path]:
     """The compiled libraries a run maps: every ``.so`` of this environment and libpython."""
-    roots = {Path(p) for p in (sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"])}
+    paths = sysconfig.get_paths()
+    roots = {Path(paths["purelib"]), Path(paths["platlib"])}
     libraries = [path for root in roots for path in root.rglob("*.so*") if path.is_file()]
     libdir = sysconfig.get_config_var("LIBDIR")
     if libdir:
@@ -293,7 +294,11 @@ def _set_page_cache(libraries: list[Path], *, read: bool) -> None:
 
 
 def _peak_memory_mb(out: str) -> float:
-    """ru_maxrss (MB) of one `baobab run cafe_delivery` and of the process it runs in."""
+    """ru_maxrss (MB) of the largest process of one `baobab run cafe_delivery`.
+
+    Taken in a wrapper process: RUSAGE_CHILDREN keeps the largest child a process ever waited
+    for, so in this one the earlier sections' children would count too.
+    """
     process = subprocess.run(
         [
             sys.executable,

@@ -81,6 +81,7 @@ class LineProgress:
         self.every = every
         self._leaf: str | None = None
         self._next = 0.0
+        self._closed = False  # the reader went away (`baobab run ... | head`)
 
     def update(self, snapshot: ProgressSnapshot) -> None:
         """Write a line on a new leaf or when ``every`` s of sim time have passed."""
@@ -96,9 +97,14 @@ class LineProgress:
         return True
 
     def draw(self, snapshot: ProgressSnapshot) -> None:
-        """Write the line of ``snapshot``."""
-        self.stream.write(describe(snapshot) + "\n")
-        self.stream.flush()
+        """Write the line of ``snapshot``; nothing once the stream's reader has gone."""
+        if self._closed:
+            return
+        try:
+            self.stream.write(describe(snapshot) + "\n")
+            self.stream.flush()
+        except BrokenPipeError:
+            self._closed = True  # the run goes on and writes its folder
 
     def close(self) -> None:
         """Nothing to tidy up."""

@@ -187,16 +187,10 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
                 record.result_object(folder), record.trace.text(), record.plot, record.exit_code
             )
 
-        closed: list[bool] = []  # the progress stream was closed (`baobab run ... | head`)
-
         def show(message: RunMessage) -> None:
             kind, payload = message
             if kind == "progress":
-                if not closed:
-                    try:
-                        progress.draw(payload)
-                    except BrokenPipeError:
-                        closed.append(True)  # the run goes on and writes its folder
+                progress.draw(payload)
             elif kind == "warn":
                 _warn(payload)
             else:
