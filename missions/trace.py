@@ -96,7 +96,7 @@ class Trace:
         self.lines: list[str] = []
         self._hash = hashlib.sha256()
 
-    def add(self, time: float, kind: str, **fields: Any) -> None:
+    def add(self, time: float, kind: str, /, **fields: Any) -> None:
         """Append the record ``{"t": time, "type": kind, **fields}``."""
         record = {"t": time, "type": kind, **fields}
         line = _flat_line(record)
