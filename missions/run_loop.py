@@ -71,7 +71,7 @@ class LoopOutcome:
         error_name: the code's name.
         error_msg: one line for people.
         sim_time: sim time at the end (s).
-        interrupted: True when the run was stopped from outside (SIGINT).
+        interrupted: True when the run was stopped from outside (a signal).
     """
 
     result: str
@@ -113,7 +113,8 @@ class RunLoop:
         timeout: the mission timeout (s of sim time).
         progress: receives a snapshot after every tick.
         pacer: paces to the wall clock (``--realtime``); None runs as fast as possible.
-        interrupted: polled every tick; True stops the run as CANCELED (SIGINT).
+        interrupted: polled every tick; a true value stops the run as CANCELED: the name of
+            the signal that stopped it (``"SIGTERM"``), or True for SIGINT.
         on_tick: called after every tick (e.g. to sync a viewer).
         tick_period: s of sim time between ticks.
         faults: asked every tick for a fault that ends the run FAILED (before the tree
@@ -130,7 +131,7 @@ class RunLoop:
         *,
         progress: ProgressSink | None = None,
         pacer: Pacer | None = None,
-        interrupted: Callable[[], bool] | None = None,
+        interrupted: Callable[[], bool | str | None] | None = None,
         on_tick: Callable[[], None] | None = None,
         tick_period: float = TICK_PERIOD,
         faults: FaultWatch | None = None,
@@ -185,8 +186,9 @@ class RunLoop:
                     return self._end("SUCCEEDED", 0, "NONE", "")
                 if status is Status.FAILURE:
                     return self._failed()
-                if self.interrupted():
-                    return self._cancel("interrupted (SIGINT)", interrupted=True)
+                if cause := self.interrupted():
+                    name = cause if isinstance(cause, str) else "SIGINT"
+                    return self._cancel(f"interrupted ({name})", interrupted=True)
                 if sim.step_count >= self.timeout_step:
                     return self._timed_out()
                 target = min(sim.step_count + self.tick_steps, self.timeout_step)

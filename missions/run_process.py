@@ -6,9 +6,10 @@ never in one process: the peak memory of a run is the larger of the two, not the
 crash in native code (MuJoCo, a kernel) ends the run with a message naming the signal.
 
 The child is forked after the mission is loaded, so it starts from the parent's state with no
-second start-up. It runs in a process group of its own: the parent forwards each SIGINT it gets
-(the terminal's Ctrl-C reaches only the parent), so the first one ends the run gracefully and a
-second one interrupts it, exactly as in one process.
+second start-up (and with the parent's signal handlers). It runs in a process group of its
+own: the parent forwards each SIGINT, SIGTERM and SIGHUP it gets (the terminal's Ctrl-C reaches
+only the parent), so the child handles them exactly as one process would. The signals are
+blocked around the fork, so none arrives in the parent before it can forward it.
 
 Forking is safe only from a process with one thread: a lock another thread holds at the fork
 stays locked in the child for ever (seen here: a test process whose earlier runs had started
@@ -52,13 +53,22 @@ def fork_is_safe() -> bool:
         return False
 
 
-def run_in_child(job: Callable[[Send], T], on_message: Send) -> T:
+FORWARDED = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+"""The signals the parent passes on to the child."""
+
+
+def run_in_child(
+    job: Callable[[Send], T],
+    on_message: Send,
+    on_signal: Callable[[int], None] | None = None,
+) -> T:
     """Run ``job(send)`` in a forked child and return what it returns.
 
     Args:
         job: called in the child with ``send``, which passes a picklable message to
             ``on_message`` in the parent; what it returns (or raises) must be picklable.
         on_message: called in the parent with each message, in order.
+        on_signal: told (in the parent) of each :data:`FORWARDED` signal it passes on.
 
     Raises:
         BaseException: what ``job`` raised (KeyboardInterrupt and baobab's errors keep their
@@ -72,23 +82,38 @@ def run_in_child(job: Callable[[Send], T], on_message: Send) -> T:
     reader, writer = Pipe(duplex=False)
     for stream in (sys.stdout, sys.stderr):
         stream.flush()
-    pid = os.fork()
+    if forwarding:
+        signal.pthread_sigmask(signal.SIG_BLOCK, FORWARDED)
+    try:
+        pid = os.fork()
+    except OSError:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)
+        raise
     if pid == 0:
+        if forwarding:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)
         _child(job, reader, writer, own_group=forwarding)
     writer.close()
     child = _Child(pid)
-    previous = None
+    previous = {}
     if forwarding:
         _join_own_group(pid)
-        previous = signal.signal(signal.SIGINT, lambda _signum, _frame: child.interrupt())
+
+        def forward(signum: int, _frame: object) -> None:
+            child.interrupt(signum)
+            if on_signal is not None:
+                on_signal(signum)
+
+        previous = {signum: signal.signal(signum, forward) for signum in FORWARDED}
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)
     finished = False
     try:
         result = _receive(reader, on_message, child)
         finished = True
         return result
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGINT, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
         reader.close()
         if not finished:
             child.kill()
@@ -102,10 +127,10 @@ class _Child:
         self.pid = pid
         self.status: int | None = None
 
-    def interrupt(self) -> None:
-        """Forward a SIGINT."""
+    def interrupt(self, signum: int = signal.SIGINT) -> None:
+        """Forward signal ``signum`` (a SIGINT by default)."""
         if self.status is None:
-            os.kill(self.pid, signal.SIGINT)
+            os.kill(self.pid, signum)
 
     def wait(self) -> int:
         """The child's exit status, once it has ended."""

@@ -145,7 +145,7 @@ def run_mission(
     realtime: bool = False,
     viewer: bool = False,
     recording: RecordingOptions | None = None,
-    interrupted: Callable[[], bool] | None = None,
+    interrupted: Callable[[], bool | str | None] | None = None,
     warn: Callable[[str], None] | None = None,
 ) -> RunRecord:
     """Run ``mission`` headless and deterministic, and judge it.
@@ -160,7 +160,7 @@ def run_mission(
         recording: record to MCAP, serve live to Foxglove, film, log the tree for Groot2
             (see :class:`~baobab.missions.recording_hook.RecordingHook`); recording only
             reads the simulation, so the trace digest does not change.
-        interrupted: polled every tick; True ends the run as CANCELED (SIGINT).
+        interrupted: polled every tick; a true value ends the run as CANCELED (see RunLoop).
         warn: receives warnings for people (default: dropped).
 
     Raises:

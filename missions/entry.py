@@ -1,0 +1,34 @@
+"""The ``baobab`` console script: signals and streams are set up before anything else loads.
+
+This module's first statements make SIGINT, SIGTERM and SIGHUP end the process quietly with
+``128 + signal`` (:mod:`baobab.missions.interrupts`), so a Ctrl-C while the command is still
+starting gives exit 130 and no traceback. Then the standard streams are made safe
+(:mod:`baobab.missions.streams`), and only then the command line (:mod:`baobab.missions.cli`)
+is imported and run. Once it runs, SIGINT raises ``KeyboardInterrupt`` again (exit 130), which
+the commands that run user code (``nav2``) rely on; on the way out, a late signal still only
+changes the exit code.
+"""
+
+from __future__ import annotations
+
+import signal
+
+from baobab.missions.interrupts import exit_code_for, exit_on_signals
+
+exit_on_signals()
+
+
+def main() -> int:
+    """Run the ``baobab`` command line on ``sys.argv``; returns the exit code."""
+    from baobab.missions.streams import guard_standard_streams
+
+    guard_standard_streams()
+    from baobab.missions.cli import main as command_line
+
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        return command_line()
+    except KeyboardInterrupt:
+        return exit_code_for(signal.SIGINT)
+    finally:
+        exit_on_signals()

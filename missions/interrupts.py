@@ -1,0 +1,91 @@
+"""SIGINT, SIGTERM and SIGHUP: every command ends on them with ``128 + signal``, never a traceback.
+
+- Start-up and the commands that need nothing more (:func:`exit_on_signals`): the signal ends
+  the process at once with exit code ``128 + signal`` (130, 143, 129) through ``SystemExit``,
+  so ``finally`` blocks still run (a terminal in raw mode is restored, temporary files go).
+- ``baobab run`` (:class:`RunSignals`): the first of them ends the run at the next tick as
+  CANCELED (``error_msg`` names the signal), the run folder is written as usual, and the exit
+  code is ``128 + signal``. A signal that arrives while the folder is written lets the writing
+  finish first. A second SIGINT interrupts at once, as in any command-line tool (the run
+  folder is then not written, and no temporary folder stays behind); a repeated SIGTERM or
+  SIGHUP only confirms the first.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from types import FrameType
+
+HANDLED = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+"""The signals that end a command gracefully."""
+EXIT_SIGNAL_BASE = 128
+"""A command ended by signal N exits with ``128 + N``, as a shell reports it."""
+
+
+class SignalExit(SystemExit):
+    """The process leaves because of a signal; ``code`` is ``128 + signal``."""
+
+
+def exit_code_for(signum: int) -> int:
+    """``128 + signum``: 130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP."""
+    return EXIT_SIGNAL_BASE + int(signum)
+
+
+def _exit_now(signum: int, _frame: FrameType | None) -> None:
+    raise SignalExit(exit_code_for(signum))
+
+
+def exit_on_signals(signals: tuple[signal.Signals, ...] = HANDLED) -> None:
+    """Let each of ``signals`` end the process with ``128 + signal`` (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        return
+    for signum in signals:
+        signal.signal(signum, _exit_now)
+
+
+class RunSignals:
+    """What the signals do while a run runs and its folder is written; see the module text.
+
+    Attributes:
+        first: the first signal received, or None.
+    """
+
+    def __init__(self) -> None:
+        self.first: signal.Signals | None = None
+        self._sigints = 0
+
+    def note(self, signum: int) -> None:
+        """Count a signal (a forwarded one too): the first one decides the exit code."""
+        if self.first is None:
+            self.first = signal.Signals(signum)
+        if signum == signal.SIGINT:
+            self._sigints += 1
+
+    def reason(self) -> str | None:
+        """The name of the first signal (the run ends CANCELED), or None; polled every tick."""
+        return None if self.first is None else self.first.name
+
+    def exit_code(self, own: int) -> int:
+        """``128 + signal`` after a signal, else ``own`` (the run's own exit code)."""
+        return own if self.first is None else exit_code_for(self.first)
+
+    def _handle(self, signum: int, _frame: FrameType | None) -> None:
+        self.note(signum)
+        if signum == signal.SIGINT and self._sigints == 2:
+            raise KeyboardInterrupt  # the second Ctrl-C: stop now
+
+    @contextmanager
+    def installed(self) -> Iterator[RunSignals]:
+        """Handle :data:`HANDLED` while inside (main thread only: elsewhere nothing changes)."""
+        if threading.current_thread() is not threading.main_thread():
+            yield self
+            return
+        previous = {signum: signal.signal(signum, self._handle) for signum in HANDLED}
+        try:
+            yield self
+        finally:
+            for signum, handler in previous.items():
+                signal.signal(signum, handler)
