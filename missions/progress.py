@@ -5,7 +5,9 @@ i/n, sim time and speed-up) at most ten times per wall-clock second. :class:`Lin
 writes a line when the running leaf changes and every ``every`` seconds of sim time, for logs
 and pipes. Both write to the stream they are given (stderr when ``--json`` owns stdout). Each
 splits ``update`` into ``due`` (which snapshots are shown) and ``draw``, so a run in another
-process sends only the snapshots that are shown (:mod:`baobab.missions.run_process`).
+process sends only the snapshots that are shown (:mod:`baobab.missions.run_process`). Between
+snapshots, ``phase`` says what the run is doing (loading the simulator, compiling kernels,
+writing the run folder): on a terminal only, so logs and ``--json`` get nothing extra.
 """
 
 from __future__ import annotations
@@ -106,6 +108,9 @@ class LineProgress:
         except BrokenPipeError:
             self._closed = True  # the run goes on and writes its folder
 
+    def phase(self, _text: str) -> None:
+        """Nothing: logs and pipes get no start-up or writing lines."""
+
     def close(self) -> None:
         """Nothing to tidy up."""
 
@@ -151,6 +156,15 @@ class LiveProgress:
         text.append(f"  (timeout {snapshot.timeout:g} s: {fraction:4.0%} used)\n", style="dim")
         text.append(describe(snapshot))
         self._live.update(text, refresh=True)
+
+    def phase(self, text: str) -> None:
+        """Show what happens while no snapshot comes (loading, compiling, writing the folder)."""
+        from rich.text import Text
+
+        shown = Text()
+        shown.append(self.title, style="bold")
+        shown.append(f"\n{text}", style="dim")
+        self._live.update(shown, refresh=True)
 
     def close(self) -> None:
         """Remove the live display."""

@@ -135,6 +135,7 @@ class RecordingHook:
         self._last_status_log = -math.inf
         self._last_statuses: list[py_trees.common.Status] = []
         self._closed = False
+        self._failures: dict[str, str] = {}  # output -> why it stopped early
         try:
             if options.record is not None or options.live:
                 self._start_recorder(rig, warn)
@@ -165,7 +166,13 @@ class RecordingHook:
         live = LiveSink(options.host, options.port) if options.live else None
         sinks: list[Sink] = [] if live is None else [live]
         if options.record is not None:
-            sinks.append(McapSink(options.record))
+            path = options.record
+
+            def stopped(reason: str) -> None:
+                self._failures["mcap"] = reason
+                warn(f"--record {path}: {reason}; recording stopped, no file kept, the run goes on")
+
+            sinks.append(McapSink(path, on_failure=stopped))
         origin = time.time_ns() if options.live else 0
         self._recorder = recorder = Recorder(sinks, time_origin_ns=origin)
         if live is not None:
@@ -282,7 +289,7 @@ class RecordingHook:
         """What was written or served, for the result object (paths, URL, frames)."""
         options = self.options
         outputs: dict[str, Any] = {}
-        if options.record is not None:
+        if options.record is not None and "mcap" not in self._failures:
             outputs["mcap"] = str(options.record)
         if self._live_url is not None:
             outputs["live"] = self._live_url
@@ -291,6 +298,8 @@ class RecordingHook:
             outputs["video_frames"] = self._video.frames_written
         if options.btlog is not None:
             outputs["btlog"] = str(options.btlog)
+        if self._failures:
+            outputs["stopped"] = dict(self._failures)
         return outputs
 
 

@@ -1,14 +1,23 @@
 """``baobab run``: load, run, judge, write the run folder, report, and choose the exit code.
 
-Order of work, so that invalid input exits 2 with nothing written: the options (the folders
-of ``--record``/``--video``/``--btlog`` exist, PyAV is installed for ``--video``, ``--host``,
-``--port``, ``--fps`` and ``--video-size`` come with the option they tune), the mission (a
-path, or the name of a bundled mission ``missions/<name>.yaml``) and its ``--set`` values, the
-baseline file, the run folder, the robot, the tree and the recorders; only then the run.
-SIGINT during the run stops it at the next tick: the tree is halted, the robot stopped, the
-result is CANCELED, the recordings are finished, the run folder is written, and the exit code
-is 130. The run itself happens in a forked process of its own and the run folder is written
-here (:mod:`baobab.missions.run_process`), unless this process already runs other threads.
+Order of work, so that invalid input exits 2 with nothing written: the options (each of
+``--record``/``--video``/``--btlog`` names a regular file in a writable folder, PyAV is
+installed for ``--video``, ``--live`` can bind its address, ``--host``, ``--port``, ``--fps``
+and ``--video-size`` come with the option they tune), the mission (a path, or the name of a
+bundled mission ``missions/<name>.yaml``) and its ``--set`` values, the baseline file (or,
+when it is to be made, its writable folder), the run folder (claimed and locked: a second run
+on the same ``--out`` is refused); only then the run. The run itself happens in a forked
+process of its own and the run folder is written here (:mod:`baobab.missions.run_process`),
+unless this process already runs other threads.
+
+What cannot be written after the run does not lose it: a run folder the file system refuses
+is written to a fallback folder that the message names (exit code: the run's own); if that
+fails too, the result is only printed and the exit code is :data:`EXIT_NOT_SAVED`. A
+recording that fails during the run stops with one line and the run goes on.
+
+SIGINT, SIGTERM or SIGHUP during the run stops it at the next tick: the tree is halted, the
+robot stopped, the result is CANCELED, the recordings are finished, the run folder is
+written, and the exit code is ``128 + signal`` (:mod:`baobab.missions.interrupts`).
 
 ``--viewer`` without a display prints a warning on stderr and runs headless (so a script that
 asks for the viewer still gets its run folder); with a display, and with ``--live``, the run is
@@ -18,22 +27,22 @@ paced to the wall clock.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib.util
 import json
 import os
-import signal
 import sys
-import threading
-from collections.abc import Callable, Iterator, Mapping
-from contextlib import contextmanager
+import tempfile
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from types import FrameType
 from typing import TYPE_CHECKING, Any
 
 from baobab.missions.cli import EXIT_NOT_INTENDED
-from baobab.missions.loader import load_mission
+from baobab.missions.interrupts import RunSignals
+from baobab.missions.loader import Mission, load_mission
+from baobab.missions.output_checks import check_can_bind, check_output_file
 from baobab.missions.recording_hook import (
     DEFAULT_FPS,
     DEFAULT_HOST,
@@ -42,6 +51,9 @@ from baobab.missions.recording_hook import (
     RecordingOptions,
 )
 from baobab.sim.errors import BaobabError
+
+EXIT_NOT_SAVED = 3
+"""The run ran, but neither its run folder nor the fallback folder could be written."""
 
 if TYPE_CHECKING:
     from baobab.missions.baseline import Baseline
@@ -83,26 +95,6 @@ def resolve_mission(text: str) -> Path:
     )
 
 
-@contextmanager
-def sigint_flag() -> Iterator[threading.Event]:
-    """Turn the first SIGINT into a flag the run loop polls; a second one interrupts at once."""
-    flag = threading.Event()
-    if threading.current_thread() is not threading.main_thread():
-        yield flag
-        return
-    previous = signal.getsignal(signal.SIGINT)
-
-    def handler(_signum: int, _frame: FrameType | None) -> None:
-        flag.set()
-        signal.signal(signal.SIGINT, previous)
-
-    signal.signal(signal.SIGINT, handler)
-    try:
-        yield flag
-    finally:
-        signal.signal(signal.SIGINT, previous)
-
-
 _ROBOT_KERNELS = {
     "turtlebot3": ("baobab.robots.turtlebot3.base_kernel", "base_kernel"),
     "panda": ("baobab.robots.panda.native_loop", "_arm_kernel"),
@@ -140,84 +132,179 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
         from baobab.missions.baseline import read_baseline
 
         baseline = read_baseline(args.baseline, mission.name)
+        if baseline is None:  # made after the run: it must be writable
+            check_output_file("--baseline", args.baseline, create_folders=True)
     # The simulation stack (MuJoCo, NumPy, the robots) loads only once the mission is valid,
     # so a bad mission is refused as fast as by `baobab validate`; it loads in the run's own
     # process, and the plotting stack in this one (see run_process).
-    from baobab.missions.progress import LineProgress, LiveProgress, print_summary
-    from baobab.missions.run_folder import check_run_folder, default_run_folder, write_run_folder
-    from baobab.missions.run_process import ChildProcessDiedError, fork_is_safe, run_in_child
+    from baobab.missions.run_folder import claimed_run_folder, default_run_folder
 
     folder: Path = args.out if args.out is not None else default_run_folder(mission.name)
-    check_run_folder(folder)
+    signals = RunSignals()
+    with signals.installed():
+        with claimed_run_folder(folder):
+            outcome = _run_and_save(args, mission, recording, baseline, folder, signals)
+        if outcome is None:
+            return EXIT_NOT_INTENDED
+        finished, saved_in = outcome
+        _report(args, finished.result)
+        if saved_in is None:
+            return signals.exit_code(EXIT_NOT_SAVED)
+        return signals.exit_code(finished.exit_code)
+
+
+def _run_and_save(
+    args: argparse.Namespace,
+    mission: Mission,
+    recording: RecordingOptions,
+    baseline: Baseline | None,
+    folder: Path,
+    signals: RunSignals,
+) -> tuple[FinishedRun, Path | None] | None:
+    """Run (in a child process where that is safe), then write the run folder.
+
+    Returns:
+        The finished run and where its folder went (None: nowhere), or None when the run's
+        process died without a result (said on stderr).
+    """
+    from baobab.missions.progress import LineProgress, LiveProgress
+    from baobab.missions.run_process import ChildProcessDiedError, fork_is_safe, run_in_child
 
     stream = sys.stderr if args.json else sys.stdout
-    live = stream.isatty()
     seed = mission.seed if args.seed is None else args.seed
     title = f"{mission.name}: {mission.robot.name} in {mission.world_name}, seed {seed}"
-    with sigint_flag() as interrupted:
-        progress: LineProgress | LiveProgress
-        if live:
-            progress = LiveProgress(stream, title)
-        else:
-            progress = LineProgress(stream)
-            stream.write(f"running {title}\n")
-            stream.flush()
+    progress: LineProgress | LiveProgress
+    if stream.isatty():
+        progress = LiveProgress(stream, title)
+    else:
+        progress = LineProgress(stream)
+        stream.write(f"running {title}\n")
+        stream.flush()
+    try:
         if not kernels_cached(mission.robot.name):
             sys.stderr.write(
                 "first run on this machine: compiling baobab's kernels "
                 "(about a minute; later runs load them from the cache)\n"
             )
-
-        def simulate(send: Callable[[RunMessage], None]) -> FinishedRun:
-            """The run, in its own process: progress and warnings go to ``send``."""
-            from baobab.missions.runner import run_mission
-
-            record = run_mission(
-                mission,
-                seed=args.seed,
-                progress=ForwardedProgress(progress, send),
-                realtime=args.realtime,
-                recording=recording,
-                interrupted=interrupted.is_set,
-                warn=lambda message: send(("warn", message)),
-            )
-            if args.baseline is not None:
-                _baseline(record, args.baseline, baseline, lambda note: send(("note", note)))
-            return FinishedRun(
-                record.result_object(folder), record.trace.text(), record.plot, record.exit_code
-            )
-
-        def show(message: RunMessage) -> None:
-            kind, payload = message
-            if kind == "progress":
-                progress.draw(payload)
-            elif kind == "warn":
-                _warn(payload)
-            else:
-                print(payload, file=sys.stderr)
-
+        if not args.json:
+            progress.phase(_starting(mission.robot.name))
+        simulate = _simulation(args, mission, recording, baseline, folder, progress, signals)
+        show = _shower(progress)
         try:
-            finished = run_in_child(simulate, show) if fork_is_safe() else simulate(show)
+            if fork_is_safe():
+                finished = run_in_child(simulate, show, on_signal=signals.note)
+            else:
+                finished = simulate(show)
         except ChildProcessDiedError as exc:
             print(f"baobab run: {exc}; no run folder was written", file=sys.stderr)
-            return EXIT_NOT_INTENDED
-        finally:
-            progress.close()
-        write_run_folder(folder, finished.result, finished.trace_text, finished.plot)
+            return None
+        finished.result["exit_code"] = signals.exit_code(finished.exit_code)
+        if not args.json:
+            progress.phase("writing the run folder...")
+        return finished, save_run(folder, finished)
+    finally:
+        progress.close()
+
+
+def _starting(robot: str) -> str:
+    """What the live display says until the run's first tick."""
+    if kernels_cached(robot):
+        return "starting: loading MuJoCo, the world, the robot and its compiled kernels..."
+    return "starting: compiling baobab's kernels (first run on this machine, about a minute)..."
+
+
+def _simulation(
+    args: argparse.Namespace,
+    mission: Mission,
+    recording: RecordingOptions,
+    baseline: Baseline | None,
+    folder: Path,
+    progress: LineProgress | LiveProgress,
+    signals: RunSignals,
+) -> Callable[[Callable[[RunMessage], None]], FinishedRun]:
+    """The run as a job for :func:`~baobab.missions.run_process.run_in_child`."""
+
+    def simulate(send: Callable[[RunMessage], None]) -> FinishedRun:
+        """The run, in its own process: progress and warnings go to ``send``."""
+        from baobab.missions.runner import run_mission
+
+        record = run_mission(
+            mission,
+            seed=args.seed,
+            progress=ForwardedProgress(progress, send),
+            realtime=args.realtime,
+            recording=recording,
+            interrupted=signals.reason,
+            warn=lambda message: send(("warn", message)),
+        )
+        if args.baseline is not None:
+            _baseline(record, args.baseline, baseline, lambda note: send(("note", note)))
+        exit_code = signals.exit_code(record.exit_code)
+        trace = record.trace.text()
+        return FinishedRun(record.result_object(folder), trace, record.plot, exit_code)
+
+    return simulate
+
+
+def _shower(progress: LineProgress | LiveProgress) -> Callable[[RunMessage], None]:
+    """Shows what the run's process sends: progress, warnings, notes."""
+
+    def show(message: RunMessage) -> None:
+        kind, payload = message
+        if kind == "progress":
+            progress.draw(payload)
+        elif kind == "warn":
+            _warn(payload)
+        else:
+            print(payload, file=sys.stderr)
+
+    return show
+
+
+def save_run(folder: Path, finished: FinishedRun) -> Path | None:
+    """Write the run folder; where that fails, into a fallback folder the message names.
+
+    Returns:
+        Where the folder was written, or None when nowhere (said on stderr); the result's
+        ``run_folder`` says the same.
+    """
+    from baobab.missions.run_folder import write_run_folder
+
     result = finished.result
     try:
-        if args.json:
-            sys.stdout.write(json.dumps(result) + "\n")
-            sys.stdout.flush()
-        else:
-            print_summary(sys.stdout, result, rich=live)
-            _print_recording(result.get("recording", {}))
-            sys.stdout.flush()
-    except BrokenPipeError:
-        # Nobody reads stdout any more; the run folder is written. Point stdout at devnull so
-        # the interpreter's last flush does not complain either.
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-    return finished.exit_code
+        return write_run_folder(folder, result, finished.trace_text, finished.plot)
+    except OSError as error:
+        first = f"could not write the run folder {folder}: {error.strerror or error}"
+    fallback: Path | None = None
+    try:
+        fallback = Path(tempfile.mkdtemp(prefix=f"baobab-{folder.name or 'run'}-"))
+        result["run_folder"] = str(fallback)
+        write_run_folder(fallback, result, finished.trace_text, finished.plot)
+    except OSError as error:
+        result["run_folder"] = None
+        if fallback is not None:
+            with contextlib.suppress(OSError):
+                fallback.rmdir()
+        place = "" if fallback is None else f" {fallback}"
+        _warn(
+            f"{first}; nor the fallback folder{place}: {error.strerror or error}; "
+            f"the run is not saved (exit {EXIT_NOT_SAVED})"
+        )
+        return None
+    _warn(f"{first}; written to {fallback} instead")
+    return fallback
+
+
+def _report(args: argparse.Namespace, result: Mapping[str, Any]) -> None:
+    """The result on stdout: one JSON object (``--json``) or the summary table."""
+    from baobab.missions.progress import print_summary
+
+    if args.json:
+        sys.stdout.write(json.dumps(result) + "\n")
+    else:
+        print_summary(sys.stdout, result, rich=sys.stdout.isatty())
+        _print_recording(result.get("recording", {}))
+    sys.stdout.flush()
 
 
 RunMessage = tuple[str, Any]
@@ -262,18 +349,19 @@ def recording_options(args: argparse.Namespace) -> RecordingOptions:
     """The recording flags of ``baobab run``, checked before anything runs.
 
     Raises:
-        BaobabError: a tuning flag without the flag it tunes, a missing folder, a ``--btlog``
-            without its suffix, or ``--video`` without PyAV.
+        BaobabError: a tuning flag without the flag it tunes, a file that cannot be written
+            (:func:`~baobab.missions.output_checks.check_output_file`), a ``--btlog`` without
+            its suffix, ``--video`` without PyAV, or a ``--live`` address that cannot be bound.
     """
     if not args.live and (args.host is not None or args.port is not None):
         raise BaobabError("--host and --port set up --live, which is not given")
     if args.video is None and (args.fps is not None or args.video_size is not None):
         raise BaobabError("--fps and --video-size set up --video, which is not given")
-    for flag, path in (("--record", args.record), ("--video", args.video), ("--btlog", args.btlog)):
-        if path is not None and not path.parent.is_dir():
-            raise BaobabError(f"{flag} {path}: the folder {path.parent} does not exist")
     if args.btlog is not None and args.btlog.suffix != ".btlog":
         raise BaobabError(f"--btlog {args.btlog}: Groot2 reads only files ending in .btlog")
+    for flag, path in (("--record", args.record), ("--video", args.video), ("--btlog", args.btlog)):
+        if path is not None:
+            check_output_file(flag, path)
     if args.video is not None:
         try:
             import av  # noqa: F401  (PyAV: the video extra)
@@ -281,11 +369,15 @@ def recording_options(args: argparse.Namespace) -> RecordingOptions:
             raise BaobabError(
                 '--video needs PyAV, which is not installed: pip install "baobab[video]"'
             ) from None
+    host = DEFAULT_HOST if args.host is None else args.host
+    port = DEFAULT_PORT if args.port is None else args.port
+    if args.live:
+        check_can_bind(host, port)
     return RecordingOptions(
         record=args.record,
         live=args.live,
-        host=DEFAULT_HOST if args.host is None else args.host,
-        port=DEFAULT_PORT if args.port is None else args.port,
+        host=host,
+        port=port,
         video=args.video,
         fps=DEFAULT_FPS if args.fps is None else args.fps,
         video_size=DEFAULT_VIDEO_SIZE if args.video_size is None else args.video_size,
@@ -309,11 +401,17 @@ def _baseline(
         record.extra["baseline"] = {"file": str(path), "status": "compared"}
         return
     if record.intended and not record.outcome.interrupted:
-        write_baseline(
-            path, record.mission.name, record.seed, record.mission.params, record.metrics
-        )
-        record.extra["baseline"] = {"file": str(path), "status": "created"}
-        note(f"baseline created: {path}")
+        try:
+            write_baseline(
+                path, record.mission.name, record.seed, record.mission.params, record.metrics
+            )
+        except OSError as error:  # the disk filled or turned read-only during the run
+            status = f"not created: {error.strerror or error}"
+            note(f"baobab run: --baseline {path}: {status}")
+        else:
+            status = "created"
+            note(f"baseline created: {path}")
+        record.extra["baseline"] = {"file": str(path), "status": status}
         return
     record.extra["baseline"] = {
         "file": str(path),

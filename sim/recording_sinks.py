@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import threading
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from pathlib import Path
 
 import foxglove
 from foxglove.websocket import Capability, ChannelView, Client, ServerListener
 
 from baobab.sim.errors import BaobabError
+from baobab.sim.output_file import OutputFile
 
 
 class RecordingError(BaobabError):
@@ -39,26 +41,50 @@ class Sink(ABC):
 class McapSink(Sink):
     """Write an MCAP file (zstd-compressed chunks, with summary and message indexes).
 
+    The file is written under a temporary name and moved into place by :meth:`close`. If
+    writing fails meanwhile (disk full), recording stops: ``on_failure`` is told once, the
+    partial file is removed, and the run goes on (see :class:`~baobab.sim.output_file.OutputFile`).
+
     Args:
         path: the file to write; an existing file is replaced.
+        on_failure: told why recording stopped (default: :meth:`close` raises RecordingError).
     """
 
-    def __init__(self, path: str | Path) -> None:
+    def __init__(self, path: str | Path, on_failure: Callable[[str], None] | None = None) -> None:
         self.path = Path(path)
+        self.on_failure = on_failure
+        self._file: OutputFile | None = None
         self._writer: foxglove.mcap.MCAPWriter | None = None
 
     def attach(self, context: foxglove.Context) -> None:
         if not self.path.parent.is_dir():
             raise RecordingError(f"{self.path}: cannot record, folder {self.path.parent} missing")
         try:
-            self._writer = foxglove.open_mcap(self.path, allow_overwrite=True, context=context)
+            self._file = OutputFile(self.path, self._failed)
+            self._writer = foxglove.open_mcap(self._file, context=context)
         except Exception as error:  # the SDK raises its own (Rust) error types
+            if self._file is not None:
+                self._file.discard()
             raise RecordingError(f"{self.path}: cannot record: {error}") from error
+
+    @property
+    def failure(self) -> str | None:
+        """Why recording stopped before the end, or None."""
+        return None if self._file is None else self._file.failure
+
+    def _failed(self, reason: str) -> None:
+        if self.on_failure is not None:
+            self.on_failure(reason)
 
     def close(self) -> None:
         if self._writer is not None:
             self._writer.close()
             self._writer = None
+        file = self._file
+        if file is not None and not file.closed:
+            file.close()
+            if file.failure is not None and self.on_failure is None:
+                raise RecordingError(f"{self.path}: recording stopped: {file.failure}")
 
 
 class LiveSink(Sink):
