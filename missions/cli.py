@@ -1,7 +1,8 @@
 """The ``baobab`` command line.
 
 Exit codes (DESIGN §2): 0 as intended, 1 ran but not as intended, 2 invalid input (located
-messages on stderr, never a traceback), 130 interrupted.
+messages on stderr, never a traceback), 3 ran but could not be saved (``run``), 128 + signal
+when SIGINT (130), SIGTERM (143) or SIGHUP (129) ended it (:mod:`.interrupts`).
 
 Commands here: ``validate``, ``tree``, ``schema``, ``list`` and ``run`` (its work lives in
 :mod:`baobab.missions.run_command`, imported when used so the other commands start fast).
@@ -26,6 +27,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from baobab.missions.interrupts import exits_at_once, unwind_on_signals
 from baobab.missions.startup import loading_modules, skip_pydantic_plugin_discovery
 from baobab.sim.errors import BaobabError, SourceError
 
@@ -40,6 +42,8 @@ if TYPE_CHECKING:
 
 EXIT_OK, EXIT_NOT_INTENDED, EXIT_INVALID, EXIT_INTERRUPTED = 0, 1, 2, 130
 Handler = Callable[[argparse.Namespace], int]
+UNWINDING_COMMANDS = ("teleop", "campaign", "nav2")
+"""Commands that tidy up when a signal ends them (a raw terminal, workers, a user's script)."""
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -53,6 +57,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
         return int(exit_.code or 0)
     handler: Handler = args.handler
+    if args.command in UNWINDING_COMMANDS and exits_at_once():
+        unwind_on_signals()
     try:
         return handler(args)
     except SourceError as exc:

@@ -1,12 +1,11 @@
 """The ``baobab`` console script: signals and streams are set up before anything else loads.
 
-This module's first statements make SIGINT, SIGTERM and SIGHUP end the process quietly with
-``128 + signal`` (:mod:`baobab.missions.interrupts`), so a Ctrl-C while the command is still
-starting gives exit 130 and no traceback. Then the standard streams are made safe
-(:mod:`baobab.missions.streams`), and only then the command line (:mod:`baobab.missions.cli`)
-is imported and run. Once it runs, SIGINT raises ``KeyboardInterrupt`` again (exit 130), which
-the commands that run user code (``nav2``) rely on; on the way out, a late signal still only
-changes the exit code.
+This module's first statements make SIGINT, SIGTERM and SIGHUP end the process at once and
+quietly with ``128 + signal`` (:mod:`baobab.missions.interrupts`), so a Ctrl-C while the
+command is still starting gives exit 130 and no traceback. Then the standard streams are made
+safe (:mod:`baobab.missions.streams`), and only then the command line
+(:mod:`baobab.missions.cli`) is imported and run; a command that must tidy up on the way out
+(or ``baobab run``, once its run starts) handles the signals its own way.
 """
 
 from __future__ import annotations
@@ -25,7 +24,6 @@ def main() -> int:
     guard_standard_streams()
     from baobab.missions.cli import main as command_line
 
-    signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         return command_line()
     except KeyboardInterrupt:

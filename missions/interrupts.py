@@ -1,19 +1,26 @@
 """SIGINT, SIGTERM and SIGHUP: every command ends on them with ``128 + signal``, never a traceback.
 
-- Start-up and the commands that need nothing more (:func:`exit_on_signals`): the signal ends
-  the process at once with exit code ``128 + signal`` (130, 143, 129) through ``SystemExit``,
-  so ``finally`` blocks still run (a terminal in raw mode is restored, temporary files go).
-- ``baobab run`` (:class:`RunSignals`): the first of them ends the run at the next tick as
-  CANCELED (``error_msg`` names the signal), the run folder is written as usual, and the exit
-  code is ``128 + signal``. A signal that arrives while the folder is written lets the writing
-  finish first. A second SIGINT interrupts at once, as in any command-line tool (the run
-  folder is then not written, and no temporary folder stays behind); a repeated SIGTERM or
-  SIGHUP only confirms the first.
+- Start-up, and the commands that write nothing that needs finishing (``validate``, ``tree``,
+  ``schema``, ``list``, ``run`` until its run starts) (:func:`exit_on_signals`): the process
+  flushes its streams and exits at once with ``128 + signal`` (130, 143, 129). Nothing is
+  raised into the code that was running, which may be a native extension being imported.
+- Commands that must tidy up on the way out (a terminal in raw mode, worker processes)
+  (:func:`unwind_on_signals`): SIGINT raises ``KeyboardInterrupt`` as usual, SIGTERM and
+  SIGHUP raise :class:`SignalExit`, so ``finally`` blocks run; the exit code is the same.
+- ``baobab run`` once its run starts (:class:`RunSignals`): the first of them ends the run at
+  the next tick as CANCELED (``error_msg`` names the signal), the run folder is written as
+  usual, and the exit code is ``128 + signal``. A signal that arrives while the folder is
+  written lets the writing finish first. A second SIGINT interrupts at once, as in any
+  command-line tool (the run folder is then not written, and no temporary folder stays
+  behind); a repeated SIGTERM or SIGHUP only confirms the first.
 """
 
 from __future__ import annotations
 
+import contextlib
+import os
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -34,16 +41,38 @@ def exit_code_for(signum: int) -> int:
     return EXIT_SIGNAL_BASE + int(signum)
 
 
-def _exit_now(signum: int, _frame: FrameType | None) -> None:
+def _exit_at_once(signum: int, _frame: FrameType | None) -> None:
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):  # closed, or interrupted inside a write
+            stream.flush()
+    os._exit(exit_code_for(signum))
+
+
+def _unwind(signum: int, _frame: FrameType | None) -> None:
     raise SignalExit(exit_code_for(signum))
 
 
-def exit_on_signals(signals: tuple[signal.Signals, ...] = HANDLED) -> None:
-    """Let each of ``signals`` end the process with ``128 + signal`` (main thread only)."""
-    if threading.current_thread() is not threading.main_thread():
-        return
-    for signum in signals:
-        signal.signal(signum, _exit_now)
+def exit_on_signals() -> None:
+    """Let each of :data:`HANDLED` end the process at once with ``128 + signal``.
+
+    Only in the main thread; elsewhere nothing changes.
+    """
+    if threading.current_thread() is threading.main_thread():
+        for signum in HANDLED:
+            signal.signal(signum, _exit_at_once)
+
+
+def exits_at_once() -> bool:
+    """Whether :func:`exit_on_signals` is in force (the ``baobab`` process, not a caller's)."""
+    return signal.getsignal(signal.SIGTERM) is _exit_at_once
+
+
+def unwind_on_signals() -> None:
+    """SIGINT raises KeyboardInterrupt, SIGTERM and SIGHUP :class:`SignalExit` (main thread)."""
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        signal.signal(signal.SIGTERM, _unwind)
+        signal.signal(signal.SIGHUP, _unwind)
 
 
 class RunSignals:

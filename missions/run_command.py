@@ -128,12 +128,12 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
         raise BaobabError(f"--seed must be >= 0, got {args.seed}")
     mission = load_mission(resolve_mission(args.mission), overrides)
     baseline = None
-    if args.baseline:
+    if args.baseline and not args.baseline.exists():  # made after the run: must be writable
+        check_output_file("--baseline", args.baseline, create_folders=True)
+    elif args.baseline:
         from baobab.missions.baseline import read_baseline
 
         baseline = read_baseline(args.baseline, mission.name)
-        if baseline is None:  # made after the run: it must be writable
-            check_output_file("--baseline", args.baseline, create_folders=True)
     # The simulation stack (MuJoCo, NumPy, the robots) loads only once the mission is valid,
     # so a bad mission is refused as fast as by `baobab validate`; it loads in the run's own
     # process, and the plotting stack in this one (see run_process).
@@ -285,9 +285,9 @@ def save_run(folder: Path, finished: FinishedRun) -> Path | None:
         if fallback is not None:
             with contextlib.suppress(OSError):
                 fallback.rmdir()
-        place = "" if fallback is None else f" {fallback}"
+        place = tempfile.gettempdir() if fallback is None else fallback.parent
         _warn(
-            f"{first}; nor the fallback folder{place}: {error.strerror or error}; "
+            f"{first}; nor a fallback folder in {place}: {error.strerror or error}; "
             f"the run is not saved (exit {EXIT_NOT_SAVED})"
         )
         return None
