@@ -41,13 +41,15 @@ def _mission(folder: Path) -> Path:
 
 
 def _handles_sighup(pid: int) -> bool:
-    """Whether process ``pid`` has its own SIGHUP handler yet (baobab's first statements)."""
+    """Whether process ``pid`` handles SIGHUP itself yet (baobab's first statements) or ended."""
     try:
         status = Path(f"/proc/{pid}/status").read_text()
     except OSError:
         return True  # gone already, or no procfs: nothing to wait for
-    caught = next(line for line in status.splitlines() if line.startswith("SigCgt:"))
-    return bool(int(caught.split()[1], 16) & (1 << (signal.SIGHUP - 1)))
+    fields = dict(line.split(":", 1) for line in status.splitlines() if ":" in line)
+    if fields["State"].split()[0] in ("Z", "X"):
+        return True  # it has ended (and waits to be reaped)
+    return bool(int(fields["SigCgt"], 16) & (1 << (signal.SIGHUP - 1)))
 
 
 def _check_folder(folder: Path, code: int, signum: int, stdout: str) -> None:
@@ -91,6 +93,30 @@ def test_a_signal_at_any_moment_ends_the_run_cleanly(signum: int, delay: float) 
         assert "Traceback" not in stderr and "Exception" not in stderr, stderr
         assert process.returncode in (0, 128 + signum), stderr
         _check_folder(folder, process.returncode, signum, stdout)
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP])
+def test_sigterm_and_sighup_cancel_a_running_run_as_sigint_does(
+    signum: signal.Signals, tmp_path: Path
+) -> None:
+    mission = tmp_path / "long.yaml"
+    mission.write_text(PAUSE.replace("wait: 1", "wait: 60"), encoding="utf-8")
+    folder = tmp_path / "run"
+    process = subprocess.Popen(
+        [BAOBAB, "run", str(mission), "--json", "--realtime", "--out", str(folder)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert process.stderr is not None
+    while not process.stderr.readline().startswith("t="):
+        pass  # the run's first tick
+    process.send_signal(signum)
+    stdout, stderr = process.communicate(timeout=300)
+    assert process.returncode == 128 + signum
+    assert "Traceback" not in stderr
+    _check_folder(folder, process.returncode, signum, stdout)
+    assert json.loads(stdout)["result"] == "CANCELED"
 
 
 def _signal_while_writing(
