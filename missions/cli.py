@@ -27,7 +27,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from baobab.missions.interrupts import exits_at_once, unwind_on_signals
+from baobab.missions.interrupts import signals_for
 from baobab.missions.startup import loading_modules, skip_pydantic_plugin_discovery
 from baobab.sim.errors import BaobabError, SourceError
 
@@ -42,8 +42,6 @@ if TYPE_CHECKING:
 
 EXIT_OK, EXIT_NOT_INTENDED, EXIT_INVALID, EXIT_INTERRUPTED = 0, 1, 2, 130
 Handler = Callable[[argparse.Namespace], int]
-UNWINDING_COMMANDS = ("teleop", "campaign", "nav2")
-"""Commands that tidy up when a signal ends them (a raw terminal, workers, a user's script)."""
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -57,8 +55,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
         return int(exit_.code or 0)
     handler: Handler = args.handler
-    if args.command in UNWINDING_COMMANDS and exits_at_once():
-        unwind_on_signals()
+    signals_for(args.command)
     try:
         return handler(args)
     except SourceError as exc:

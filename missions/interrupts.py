@@ -75,6 +75,16 @@ def unwind_on_signals() -> None:
         signal.signal(signal.SIGHUP, _unwind)
 
 
+UNWINDING_COMMANDS = ("teleop", "campaign", "nav2")
+"""Commands that tidy up when a signal ends them (a raw terminal, workers, a user's script)."""
+
+
+def signals_for(command: str) -> None:
+    """In the ``baobab`` process, let :data:`UNWINDING_COMMANDS` unwind on signals."""
+    if command in UNWINDING_COMMANDS and exits_at_once():
+        unwind_on_signals()
+
+
 class RunSignals:
     """What the signals do while a run runs and its folder is written; see the module text.
 
