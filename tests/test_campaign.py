@@ -21,8 +21,10 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import jsonschema
 import numpy as np
 import pytest
+import yaml
 
 from baobab.missions.campaign import replay_target
 from baobab.missions.campaign_exec import execute_run
@@ -37,6 +39,7 @@ from baobab.missions.campaign_variant import load_run_mission, variant_of
 from baobab.missions.campaign_vary import CampaignError, variable_keys
 from baobab.missions.cli import main
 from baobab.missions.errors import MissionError
+from baobab.missions.json_schema import mission_json_schema
 from baobab.missions.loader import load_mission
 from baobab.missions.schema import SpawnObstacleEvent
 
@@ -246,6 +249,32 @@ def test_start_pushed_into_a_wall_is_an_invalid_run_that_replays(tmp_path: Path)
     with pytest.raises(MissionError) as replayed:
         load_mission(written, task.overrides)
     assert replayed.value.message in row["error_msg"]
+
+
+@pytest.mark.parametrize(
+    "first_line",
+    ["# yaml-language-server: $schema=../mission.schema.json\n", "# Licence: MIT\n", ""],
+    ids=["schema elsewhere", "licence comment", "no comment"],
+)
+def test_a_replay_file_names_a_schema_that_exists_beside_it(
+    tmp_path: Path, first_line: str
+) -> None:
+    text = first_line + CRATE.split("\n", 1)[1]
+    path = tmp_path / "missions" / "crate.yaml"
+    path.parent.mkdir()
+    path.write_text(text)
+    spec = build_spec(load_mission(path), path, text, {}, [], ["start.y=-0.1,0.1"], 1, 0)
+    target = replay_target(spec, str(path), tmp_path / "campaign")
+    for task in spec.tasks():
+        variant = variant_of(task)
+        assert variant is not None
+        written = target.write_variant(task, variant)
+        comment = written.read_text().splitlines()[0]
+        assert comment.startswith("# yaml-language-server: $schema=")
+        schema = json.loads((written.parent / comment.split("=", 1)[1]).read_text())
+        assert schema == json.loads(json.dumps(mission_json_schema()))
+        jsonschema.validate(yaml.safe_load(written.read_text()), schema)
+        assert load_mission(written).start is not None
 
 
 @pytest.mark.parametrize(
