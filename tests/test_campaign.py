@@ -358,7 +358,8 @@ def test_campaign_summary_rows_and_plot(local_campaign: tuple[int, dict[str, Any
     assert all(f["replay"].startswith("baobab run ") for f in summary["failures"])
     assert (folder / "outcomes.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in (folder / "replay").iterdir()) == [
-        f"run-{i:04d}.yaml" for i in range(8)
+        "mission.schema.json",  # what the replay files' editor comment names
+        *(f"run-{i:04d}.yaml" for i in range(8)),
     ]
     summarised = CampaignSummary("campaign_dash", 8, rows).as_json()
     assert summarised["failures"] == summary["failures"]
