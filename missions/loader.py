@@ -2,8 +2,8 @@
 
 Order of work (each step's errors come before the next step's):
 
-1. the located YAML loader (syntax, duplicate keys, aliases, nesting, size, NaN), the
-   ``# yaml-language-server: $schema=...`` header, unknown top-level keys;
+1. the located YAML loader (syntax, duplicate keys, aliases, nesting, size, NaN), unknown
+   top-level keys (a ``# yaml-language-server: $schema=...`` comment is optional, for editors);
 2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
    timeout and expect (and a refusal of ``${`` anywhere else);
 3. the top-level model (types, events, expectations);
@@ -48,7 +48,8 @@ from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
 from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml
 
 SCHEMA_HEADER = "# yaml-language-server: $schema="
-"""Every mission file begins with this comment, followed by the schema's location."""
+"""The editor comment that bundled and generated missions begin with, before the schema's
+location; optional in a mission file."""
 _PARAMS = TypeAdapter(dict[ParamName, ParamSpec])
 
 
@@ -200,15 +201,6 @@ class _Loader:
         )
 
     def _top_level(self) -> dict[str, Any]:
-        first_line = self.text.lstrip("\ufeff").split("\n", 1)[0].strip()
-        if not first_line.startswith(SCHEMA_HEADER) or first_line == SCHEMA_HEADER:
-            raise MissionError(
-                self.document.path,
-                1,
-                1,
-                f"a mission file begins with '{SCHEMA_HEADER}<schema>' so editors can "
-                "complete it (write the schema from 'baobab schema' next to it)",
-            )
         data = self.document.data
         if not isinstance(data, dict):
             raise self._error((), "a mission file is a mapping of top-level keys")
