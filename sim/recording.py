@@ -25,12 +25,12 @@ import foxglove
 import numpy as np
 from foxglove import channels as fc
 from foxglove import messages as fm
-from scipy.spatial.transform import Rotation
 
+from baobab.sim import foxglove_messages as convert
 from baobab.sim.closable import Closable
 from baobab.sim.lidar import LaserScan
 from baobab.sim.recording_sinks import LiveSink, McapSink, RecordingError, Sink
-from baobab.sim.scene_primitives import IDENTITY, Entity, Quaternion, Rgba, Vector3, yaw_quaternion
+from baobab.sim.scene_primitives import IDENTITY, Entity, Quaternion, Vector3, yaw_quaternion
 from baobab.sim.world import Pose2D
 
 __all__ = [
@@ -175,15 +175,15 @@ class Recorder(Closable):
     ) -> None:
         """Log transforms stamped ``t`` (s), e.g. map -> odom -> base_link, as one message."""
         ns = self._stamp(topic, t)
-        stamp = _timestamp(ns)
+        stamp = convert.timestamp(ns)
         message = fm.FrameTransforms(
             transforms=[
                 fm.FrameTransform(
                     timestamp=stamp,
                     parent_frame_id=tf.parent,
                     child_frame_id=tf.child,
-                    translation=_vector3(tf.translation),
-                    rotation=_quaternion(tf.rotation),
+                    translation=convert.vector3(tf.translation),
+                    rotation=convert.quaternion(tf.rotation),
                 )
                 for tf in transforms
             ]
@@ -202,7 +202,9 @@ class Recorder(Closable):
         """Log a pose (position m, quaternion x, y, z, w) in ``frame_id`` as PoseInFrame."""
         ns = self._stamp(topic, t)
         message = fm.PoseInFrame(
-            timestamp=_timestamp(ns), frame_id=frame_id, pose=_pose(position, orientation)
+            timestamp=convert.timestamp(ns),
+            frame_id=frame_id,
+            pose=convert.pose(position, orientation),
         )
         self._channel(topic, fc.PoseInFrameChannel).log(message, log_time=ns)
 
@@ -225,11 +227,13 @@ class Recorder(Closable):
         poses = np.asarray(poses, dtype=float).reshape(-1, 3)
         ns = self._stamp(topic, t)
         message = fm.PosesInFrame(
-            timestamp=_timestamp(ns),
+            timestamp=convert.timestamp(ns),
             frame_id=frame_id,
             poses=[
-                _pose((x, y, z), quaternion)
-                for (x, y, _), quaternion in zip(poses, _yaw_quaternions(poses[:, 2]), strict=True)
+                convert.pose((x, y, z), quaternion)
+                for (x, y, _), quaternion in zip(
+                    poses, convert.yaw_quaternions(poses[:, 2]), strict=True
+                )
             ],
         )
         self._channel(topic, fc.PosesInFrameChannel).log(message, log_time=ns)
@@ -245,9 +249,9 @@ class Recorder(Closable):
         ns = self._stamp(topic, scan.stamp)
         sensor = scan.sensor_pose
         message = fm.LaserScan(
-            timestamp=_timestamp(ns),
+            timestamp=convert.timestamp(ns),
             frame_id=frame_id,
-            pose=_pose((sensor.x, sensor.y, z), yaw_quaternion(sensor.yaw)),
+            pose=convert.pose((sensor.x, sensor.y, z), yaw_quaternion(sensor.yaw)),
             start_angle=scan.angle_min,
             end_angle=scan.angle_max,
             ranges=[float(r) for r in scan.ranges],
@@ -281,9 +285,9 @@ class Recorder(Closable):
             raise ValueError(f"a grid must be a 2D uint8 array, got {grid.dtype} {grid.shape}")
         ns = self._stamp(topic, t)
         message = fm.Grid(
-            timestamp=_timestamp(ns),
+            timestamp=convert.timestamp(ns),
             frame_id=frame_id,
-            pose=_pose((origin[0], origin[1], 0.0), IDENTITY),
+            pose=convert.pose((origin[0], origin[1], 0.0), IDENTITY),
             column_count=grid.shape[1],
             cell_size=fm.Vector2(x=resolution, y=resolution),
             row_stride=grid.shape[1],
@@ -311,14 +315,15 @@ class Recorder(Closable):
             replace_all: delete every entity previously sent on the topic first.
         """
         ns = self._stamp(topic, t)
-        stamp = _timestamp(ns)
+        stamp = convert.timestamp(ns)
         deletions = (
             [fm.SceneEntityDeletion(timestamp=stamp, type=fm.SceneEntityDeletionType.All)]
             if replace_all
             else []
         )
         message = fm.SceneUpdate(
-            deletions=deletions, entities=[_scene_entity(entity, stamp) for entity in entities]
+            deletions=deletions,
+            entities=[convert.scene_entity(entity, stamp) for entity in entities],
         )
         self._channel(topic, fc.SceneUpdateChannel).log(message, log_time=ns)
 
@@ -347,7 +352,7 @@ class Recorder(Closable):
             )
             for i, name in enumerate(names)
         ]
-        message = fm.JointStates(timestamp=_timestamp(ns), joints=joints)
+        message = fm.JointStates(timestamp=convert.timestamp(ns), joints=joints)
         self._channel(topic, fc.JointStatesChannel).log(message, log_time=ns)
 
     def log_json(
@@ -358,7 +363,7 @@ class Recorder(Closable):
         The schema is fixed by the first message on a topic.
         """
         ns = self._stamp(topic, t)
-        text = json.dumps(_jsonable(payload), allow_nan=False, separators=(",", ":"))
+        text = json.dumps(convert.jsonable(payload), allow_nan=False, separators=(",", ":"))
         if topic not in self._channels:
             channel = foxglove.Channel(
                 topic,
@@ -433,96 +438,3 @@ class Trail:
     def poses(self) -> np.ndarray:
         """Kept poses, rows ``(x, y, yaw)``."""
         return np.array(self._poses, dtype=float).reshape(-1, 3)
-
-
-def _yaw_quaternions(yaws: np.ndarray) -> np.ndarray:
-    """Quaternions (x, y, z, w) of rotations by ``yaws`` (rad) about z, one scipy call."""
-    if len(yaws) == 0:
-        return np.empty((0, 4))
-    return np.asarray(Rotation.from_euler("z", yaws.reshape(-1, 1)).as_quat()).reshape(-1, 4)
-
-
-def _timestamp(ns: int) -> fm.Timestamp:
-    sec, nsec = divmod(ns, 1_000_000_000)
-    return fm.Timestamp(sec, nsec)
-
-
-def _vector3(values: Sequence[float] | np.ndarray) -> fm.Vector3:
-    return fm.Vector3(x=float(values[0]), y=float(values[1]), z=float(values[2]))
-
-
-def _quaternion(values: Sequence[float] | np.ndarray) -> fm.Quaternion:
-    x, y, z, w = (float(v) for v in values)
-    return fm.Quaternion(x=x, y=y, z=z, w=w)
-
-
-def _pose(
-    position: Sequence[float] | np.ndarray, orientation: Sequence[float] | np.ndarray
-) -> fm.Pose:
-    return fm.Pose(position=_vector3(position), orientation=_quaternion(orientation))
-
-
-def _color(rgba: Rgba) -> fm.Color:
-    r, g, b, a = rgba
-    return fm.Color(r=r, g=g, b=b, a=a)
-
-
-def _scene_entity(entity: Entity, stamp: fm.Timestamp) -> fm.SceneEntity:
-    cubes, spheres, cylinders = [], [], []
-    for p in entity.primitives:
-        pose, size, color = _pose(p.position, p.orientation), _vector3(p.size), _color(p.colour)
-        if p.shape == "cube":
-            cubes.append(fm.CubePrimitive(pose=pose, size=size, color=color))
-        elif p.shape == "sphere":
-            spheres.append(fm.SpherePrimitive(pose=pose, size=size, color=color))
-        else:
-            cylinders.append(
-                fm.CylinderPrimitive(
-                    pose=pose, size=size, bottom_scale=1.0, top_scale=1.0, color=color
-                )
-            )
-    arrows = [
-        fm.ArrowPrimitive(
-            pose=_pose(a.position, a.orientation),
-            shaft_length=0.7 * a.length,
-            shaft_diameter=0.08 * a.length,
-            head_length=0.3 * a.length,
-            head_diameter=0.2 * a.length,
-            color=_color(a.colour),
-        )
-        for a in entity.arrows
-    ]
-    texts = [
-        fm.TextPrimitive(
-            pose=_pose(label.position, IDENTITY),
-            billboard=True,
-            font_size=label.font_size,
-            color=_color(label.colour),
-            text=label.text,
-        )
-        for label in entity.labels
-    ]
-    return fm.SceneEntity(
-        timestamp=stamp,
-        frame_id=entity.frame_id,
-        id=entity.id,
-        metadata=[fm.KeyValuePair(key=k, value=v) for k, v in entity.metadata.items()],
-        cubes=cubes,
-        spheres=spheres,
-        cylinders=cylinders,
-        arrows=arrows,
-        texts=texts,
-    )
-
-
-def _jsonable(value: Any) -> Any:
-    """``value`` with numpy types as Python ones and non-finite floats as None."""
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple | np.ndarray):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
