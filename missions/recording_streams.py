@@ -13,11 +13,18 @@ impedance controller publish:
   ``panda/link0``) and ``/joint_states`` at 100 Hz, the scene (arm, table, cube) at 20 Hz,
   and the transform world -> panda/link0 once (every second when live).
 
+``/tf`` is what a perfectly localised Nav2 robot publishes: odom -> base_link is the wheel
+odometry, drift included, and map -> odom corrects it (ground truth composed with the inverse
+of the odometry), so base_link lands on the ground-truth pose where the robot model and the
+scan are drawn.
+
 This module imports foxglove (through :mod:`baobab.sim.recording`): it is imported only when a
 run records.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -28,6 +35,7 @@ from baobab.sim.lidar import LaserScan
 from baobab.sim.recording import Recorder, Topics, Trail, Transform
 from baobab.sim.scene_primitives import GeomScene, location_entities
 from baobab.sim.simulation import PeriodicHandle
+from baobab.sim.world import Pose2D
 
 MOBILE_FAST_PERIOD = 0.05
 """/tf, /robot_pose, trail and new plans (s): 20 Hz."""
@@ -72,7 +80,6 @@ class MobileStreams(Streams):
         self.base = rig.robot.base
         self.trail = Trail()
         self._plan: object = None
-        self._odom: tuple[object, Transform] = (None, Transform("map", "odom", (0.0, 0.0, 0.0)))
         model = rig.sim.model
         self._world_scene = GeomScene(model, groups=WORLD_SCENE_GROUPS)
         self._robot_scene = GeomScene(model, groups=ROBOT_SCENE_GROUPS)
@@ -95,12 +102,13 @@ class MobileStreams(Streams):
 
     def _fast(self, t: float) -> None:
         base, recorder = self.base, self.recorder
-        pose = base.pose()
-        origin = base.odom_origin
-        if self._odom[0] is not origin:  # changes only when the robot is teleported
-            self._odom = (origin, Transform.planar("map", "odom", origin))
+        pose, odometry = base.pose(), base.odometry.pose
         recorder.log_transforms(
-            t, [self._odom[1], Transform.planar("odom", "base_link", base.odometry.pose)]
+            t,
+            [
+                Transform.planar("map", "odom", map_to_odom(pose, odometry)),
+                Transform.planar("odom", "base_link", odometry),
+            ],
         )
         recorder.log_planar_pose(Topics.ROBOT_POSE, t, pose)
         self.trail.add(pose)
@@ -194,6 +202,21 @@ class ArmStreams(Streams):
 
     def _scene_update(self, t: float) -> None:
         self.recorder.log_scene(Topics.ARM_SCENE, t, self._scene.entities(self._data))
+
+
+def map_to_odom(truth: Pose2D, odometry: Pose2D) -> Pose2D:
+    """Where the odom frame lies in the map frame when ``odometry`` (odom frame) is at ``truth``.
+
+    The transform a perfect localisation publishes: ``truth`` composed with the inverse of
+    ``odometry`` (m, rad).
+    """
+    yaw = math.remainder(truth.yaw - odometry.yaw, math.tau)
+    cos, sin = math.cos(yaw), math.sin(yaw)
+    return Pose2D(
+        x=truth.x - (cos * odometry.x - sin * odometry.y),
+        y=truth.y - (sin * odometry.x + cos * odometry.y),
+        yaw=yaw,
+    )
 
 
 def _triple(values: np.ndarray) -> tuple[float, float, float]:
