@@ -183,7 +183,7 @@ class RecordingHook:
         if isinstance(rig, MobileRig):
             self._streams = MobileStreams(recorder, rig)
         elif isinstance(rig, ArmRig):
-            self._streams = ArmStreams(recorder, rig, live=options.live)
+            self._streams = ArmStreams(recorder, rig)
 
     def _start_btlog(self, path: Path) -> None:
         from baobab.sim.btlog import BtLogWriter

@@ -11,7 +11,8 @@ impedance controller publish:
   locations; republished so that a live client that joins late sees it).
 - Panda: the three ``/cartesian_impedance/*`` poses (TCP, set-point, filtered reference, in
   ``panda/link0``) and ``/joint_states`` at 100 Hz, the scene (arm, table, cube) at 20 Hz,
-  and the transform world -> panda/link0 once (every second when live).
+  and the transform world -> panda/link0 on ``/tf_static`` at 1 Hz: latched for live viewers
+  that join late, and never more than a second away for a viewer that opens the file anywhere.
 
 ``/tf`` is what a perfectly localised Nav2 robot publishes: odom -> base_link is the wheel
 odometry, drift included, and map -> odom corrects it (ground truth composed with the inverse
@@ -42,7 +43,7 @@ MOBILE_FAST_PERIOD = 0.05
 ROBOT_SCENE_PERIOD = 0.2
 """/robot/scene (s): 5 Hz."""
 SLOW_PERIOD = 1.0
-"""Costmap, followed path, world scene; the Panda's base transform when live (s): 1 Hz."""
+"""Costmap, followed path, world scene, the Panda's base transform (s): 1 Hz."""
 ARM_STATE_PERIOD = 0.01
 """Impedance poses and joint states (s): 100 Hz."""
 ARM_SCENE_PERIOD = 0.05
@@ -147,10 +148,9 @@ class ArmStreams(Streams):
     Args:
         recorder: where the messages go.
         rig: the arm rig (sim and arm server).
-        live: republish the base transform every second, for clients that join late.
     """
 
-    def __init__(self, recorder: Recorder, rig: ArmRig, *, live: bool) -> None:
+    def __init__(self, recorder: Recorder, rig: ArmRig) -> None:
         from baobab.robots.panda.model import ARM_JOINTS, BASE_BODY, FINGER_JOINTS
 
         super().__init__()
@@ -172,14 +172,11 @@ class ArmStreams(Streams):
         self._handles = [
             sim.every(ARM_STATE_PERIOD, self._state, name="record arm state"),
             sim.every(ARM_SCENE_PERIOD, self._scene_update, name="record arm scene"),
+            sim.every(SLOW_PERIOD, self._base_transform, name="record tf_static"),
         ]
-        if live:
-            self._handles.append(sim.every(SLOW_PERIOD, self._base_transform, name="record tf"))
-        else:
-            self._base_transform(sim.time)
 
     def _base_transform(self, t: float) -> None:
-        self.recorder.log_transforms(t, [self._base])
+        self.recorder.log_static_transforms(t, [self._base])
 
     def _state(self, t: float) -> None:
         recorder, controller, frame = self.recorder, self.server.controller, self.base_frame

@@ -11,6 +11,9 @@ may feed both at once.
 Channels are created on first use of a topic, so a file holds only the topics a run produced.
 Message log times are ``time_origin_ns + round(t * 1e9)`` for sim time ``t``; they must not go
 backwards on a topic (:class:`RecordingError` otherwise), which keeps every channel in time order.
+
+Static transforms (``/tf_static``) are latched, as ROS latches them: a live viewer that
+subscribes late is sent the latest ones with the next message logged.
 """
 
 from __future__ import annotations
@@ -53,6 +56,8 @@ class Topics:
     """The topic names baobab records under (Nav2 / ROS conventions where they exist)."""
 
     TF = "/tf"
+    TF_STATIC = "/tf_static"
+    """Transforms that never change (ROS's latched ``/tf_static``)."""
     SCAN = "/scan"
     ROBOT_POSE = "/robot_pose"
     PLAN = "/plan"
@@ -144,6 +149,8 @@ class Recorder(Closable):
         self._context = foxglove.Context()
         self._channels: dict[str, tuple[type, Any]] = {}
         self._last_ns: dict[str, int] = {}
+        self._latched: dict[str, tuple[Any, int]] = {}
+        """Topic -> its latest message and log time, resent to viewers that subscribe late."""
         self._now_ns = -1
         self._sinks: list[Sink] = []
         try:
@@ -175,20 +182,23 @@ class Recorder(Closable):
     ) -> None:
         """Log transforms stamped ``t`` (s), e.g. map -> odom -> base_link, as one message."""
         ns = self._stamp(topic, t)
-        stamp = convert.timestamp(ns)
-        message = fm.FrameTransforms(
-            transforms=[
-                fm.FrameTransform(
-                    timestamp=stamp,
-                    parent_frame_id=tf.parent,
-                    child_frame_id=tf.child,
-                    translation=convert.vector3(tf.translation),
-                    rotation=convert.quaternion(tf.rotation),
-                )
-                for tf in transforms
-            ]
-        )
+        message = _frame_transforms(transforms, convert.timestamp(ns))
         self._channel(topic, fc.FrameTransformsChannel).log(message, log_time=ns)
+
+    def log_static_transforms(
+        self, t: float, transforms: Sequence[Transform], *, topic: str = Topics.TF_STATIC
+    ) -> None:
+        """Log transforms that never change, stamped ``t`` (s), and latch them.
+
+        A live viewer that subscribes to ``topic`` later is sent this message again (same
+        stamp and log time) with the next message logged on any topic. A file holds only what
+        is logged: republish periodically so that a viewer that opens it at any time, or reads
+        only part of it, finds the transforms.
+        """
+        ns = self._stamp(topic, t)
+        message = _frame_transforms(transforms, convert.timestamp(ns))
+        self._channel(topic, fc.FrameTransformsChannel).log(message, log_time=ns)
+        self._latched[topic] = (message, ns)
 
     def log_pose(
         self,
@@ -408,7 +418,37 @@ class Recorder(Closable):
             self._now_ns = ns
             for sink in self._sinks:
                 sink.broadcast_time(ns)
+        if self._latched:
+            self._resend_latched()
         return ns
+
+    def _resend_latched(self) -> None:
+        """Log the latched messages again on the topics viewers subscribed to since last time.
+
+        Every sink gets the copy (foxglove-sdk's Python API cannot address one client): a file
+        then holds the message twice, at the same log time, which keeps the topic in order.
+        """
+        for sink in self._sinks:
+            for topic in sink.new_subscriptions():
+                latched = self._latched.get(topic)
+                if latched is not None:
+                    message, ns = latched
+                    self._channels[topic][1].log(message, log_time=ns)
+
+
+def _frame_transforms(transforms: Sequence[Transform], stamp: fm.Timestamp) -> fm.FrameTransforms:
+    return fm.FrameTransforms(
+        transforms=[
+            fm.FrameTransform(
+                timestamp=stamp,
+                parent_frame_id=tf.parent,
+                child_frame_id=tf.child,
+                translation=convert.vector3(tf.translation),
+                rotation=convert.quaternion(tf.rotation),
+            )
+            for tf in transforms
+        ]
+    )
 
 
 class Trail:

@@ -42,6 +42,13 @@ class Sink(ABC):
     def broadcast_time(self, time_ns: int) -> None:  # noqa: B027 (optional hook)
         """Tell live viewers the current time (ns); files ignore it."""
 
+    def new_subscriptions(self) -> set[str]:
+        """Topics a live viewer subscribed to since the last call (to resend latched ones).
+
+        Files have no viewers: none by default.
+        """
+        return set()
+
 
 class McapSink(Sink):
     """Write an MCAP file (zstd-compressed chunks, with summary and message indexes).
@@ -73,7 +80,8 @@ class LiveSink(Sink):
 
     Foxglove connects to :attr:`url` with either subprotocol, ``foxglove.sdk.v1`` or the older
     ``foxglove.websocket.v1``. Clients see only what is logged after they subscribe, so
-    republish static content (the world scene) periodically, e.g. at 1 Hz.
+    republish static content (the world scene) periodically, e.g. at 1 Hz, or latch it
+    (:meth:`Recorder.log_static_transforms`).
 
     Args:
         host: address to bind; the default serves this machine only.
@@ -140,6 +148,9 @@ class LiveSink(Sink):
         if self._server is not None:
             self._server.broadcast_time(time_ns)
 
+    def new_subscriptions(self) -> set[str]:
+        return self._listener.take_new()
+
     def wait_for_subscription(self, topic: str, timeout: float) -> bool:
         """Block until a client subscribes to ``topic`` or ``timeout`` (wall s) passes.
 
@@ -162,6 +173,13 @@ class _SubscriptionCounter(ServerListener):
     def __init__(self) -> None:
         self._changed = threading.Condition()
         self._counts: dict[str, int] = {}
+        self._new: set[str] = set()
+
+    def take_new(self) -> set[str]:
+        """Topics subscribed to since the last call."""
+        with self._changed:
+            new, self._new = self._new, set()
+            return new
 
     def wait_for(self, topic: str, timeout: float) -> bool:
         with self._changed:
@@ -170,6 +188,7 @@ class _SubscriptionCounter(ServerListener):
     def on_subscribe(self, client: Client, channel: ChannelView) -> None:
         with self._changed:
             self._counts[channel.topic] = self._counts.get(channel.topic, 0) + 1
+            self._new.add(channel.topic)
             self._changed.notify_all()
 
     def on_unsubscribe(self, client: Client, channel: ChannelView) -> None:

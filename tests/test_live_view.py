@@ -1,4 +1,4 @@
-"""The live view (``--live``): both Foxglove subprotocols, refused clients.
+"""The live view (``--live``): both Foxglove subprotocols, refused clients, latched transforms.
 
 Every client here is :mod:`foxglove_client`, written from the protocol's public spec.
 """
@@ -10,13 +10,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 from foxglove_client import spec_client
+from test_recording import read_mcap
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
 from websockets.typing import Subprotocol
 
 from baobab.missions.loader import load_mission
+from baobab.missions.recording_streams import ArmStreams
+from baobab.missions.robots_wiring import ArmRig
 from baobab.missions.runner import RecordingOptions, run_mission
-from baobab.sim.recording import TREE_STATUS, LiveSink, Recorder, Topics, Transform
+from baobab.sim.recording import TREE_STATUS, LiveSink, McapSink, Recorder, Topics, Transform
 from baobab.sim.world import Pose2D
 
 HANG_GUARD = 20.0
@@ -27,6 +30,14 @@ REFUSAL = (
     "foxglove.sdk.v1, foxglove.websocket.v1); further failures from {host} are not shown"
 )
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
+PANDA = """
+mission: hold
+robot: panda
+world: panda_table
+seed: 3
+tree:
+  wait: 1.0
+"""
 PAUSE = "mission: pause\nworld: walls\nrobot: turtlebot3\ntree:\n  wait: 0.3\n"
 
 
@@ -35,12 +46,13 @@ def test_a_client_of_either_subprotocol_receives_every_channel(subprotocol: str)
     sink = LiveSink(port=0)
     # 1.1 MB: more than websockets' default frame limit (1 MiB), as a large costmap would be.
     costmap = (np.arange(1000 * 1100) % 251).astype(np.uint8).reshape(1000, 1100)
-    topics = {Topics.TF, Topics.TREE_STATUS, Topics.GLOBAL_COSTMAP}
+    topics = {Topics.TF, Topics.TF_STATIC, Topics.TREE_STATUS, Topics.GLOBAL_COSTMAP}
     with Recorder([sink]) as recorder:
 
         def log_every_topic(t: float) -> None:
             odom = Transform.planar("map", "odom", Pose2D(x=1.0, y=2.0, yaw=0.5))
             recorder.log_transforms(t, [odom])
+            recorder.log_static_transforms(t, [Transform("world", "panda/link0", (0.1, 0, 0))])
             recorder.log_json(Topics.TREE_STATUS, t, {"tick": round(t * 10)}, schema=TREE_STATUS)
             recorder.log_grid(Topics.GLOBAL_COSTMAP, t, costmap, resolution=0.05, origin=(-1, 0))
 
@@ -63,6 +75,7 @@ def test_a_client_of_either_subprotocol_receives_every_channel(subprotocol: str)
     (odom,) = latest[Topics.TF].transforms
     assert (odom.parent_frame_id, odom.child_frame_id) == ("map", "odom")
     assert (odom.translation.x, odom.translation.y) == (1.0, 2.0)
+    assert latest[Topics.TF_STATIC].transforms[0].child_frame_id == "panda/link0"
     assert latest[Topics.TREE_STATUS] == {"tick": 1}
     grid = latest[Topics.GLOBAL_COSTMAP]
     assert grid.column_count == 1100 and bytes(grid.data) == costmap.tobytes()
@@ -130,3 +143,42 @@ def test_a_live_run_passes_a_refusal_to_warn_once(tmp_path: Path) -> None:
     record = run_mission(load_mission(mission), recording=options, warn=warn)
     assert record.outcome.result == "SUCCEEDED"
     assert [w for w in warnings if "refused" in w] == ["live: " + REFUSAL.format(host="127.0.0.1")]
+
+
+def test_the_panda_base_transform_is_latched_live_and_repeated_in_the_file(
+    tmp_path: Path,
+) -> None:
+    mission = tmp_path / "hold.yaml"
+    mission.write_text(HEADER + PANDA, encoding="utf-8")
+    rig = ArmRig(load_mission(mission), seed=3)
+    path = tmp_path / "panda.mcap"
+    sink = LiveSink(port=0)
+    with Recorder([McapSink(path), sink]) as recorder:
+        streams = ArmStreams(recorder, rig)
+        rig.sim.step_for(1.5)  # /tf_static logged at 0 and 1 s
+        with spec_client(sink.url, SUBPROTOCOLS[0], timeout=HANG_GUARD) as client:
+            client.wait_for_topics({Topics.TF_STATIC})
+            client.subscribe({Topics.TF_STATIC})
+            assert sink.wait_for_subscription(Topics.TF_STATIC, HANG_GUARD)
+            rig.sim.step_for(0.02)  # other topics only: the next /tf_static is due at 2 s
+            (latched,) = client.receive_until(lambda got: len(got) == 1)
+        rig.sim.step_for(1.0)
+        streams.close()
+        end_ns = round(rig.sim.time * 1e9)
+
+    assert latched.log_time == 1_000_000_000  # the latest, as it was logged
+    (base,) = latched.message.transforms
+    assert (base.parent_frame_id, base.child_frame_id) == ("world", "panda/link0")
+    position = rig.server.base_position
+    assert [base.translation.x, base.translation.y, base.translation.z] == pytest.approx(position)
+
+    schemas, messages = read_mcap(path)
+    assert Topics.TF not in schemas
+    assert schemas[Topics.TF_STATIC] == ("foxglove.FrameTransforms", "protobuf")
+    times = sorted({log_time for log_time, _ in messages[Topics.TF_STATIC]})
+    assert times == [0, 1_000_000_000, 2_000_000_000]
+    # A viewer opening the file at any instant finds the transform less than 1 s before it.
+    assert max(np.diff([*times, end_ns])) <= 1_000_000_000
+    for _, message in messages[Topics.TF_STATIC]:
+        (transform,) = message.transforms
+        assert transform.child_frame_id == "panda/link0"

@@ -281,7 +281,8 @@ def test_a_panda_run_records_the_impedance_poses_and_plots_the_tracking_error(
     assert current[-1] - current[0] == pytest.approx(0.05, abs=0.01)
     joints = messages["/joint_states"][-1][1].joints
     assert [j.name for j in joints][:2] == ["panda/joint1", "panda/joint2"] and len(joints) == 9
-    ((_, tf),) = messages["/tf"]
+    assert "/tf" not in messages
+    ((_, tf),) = messages["/tf_static"]  # at 0 s; again every second
     assert tf.transforms[0].child_frame_id == "panda/link0"
     assert {"cube", "panda/hand"} <= {e.id for e in messages["/scene"][0][1].entities}
 
