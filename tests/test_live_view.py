@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from foxglove_client import spec_client
 from test_recording import read_mcap
-from websockets.exceptions import InvalidStatus
+from websockets.exceptions import ConnectionClosedError, InvalidStatus
 from websockets.sync.client import connect
 from websockets.typing import Subprotocol
 
@@ -118,6 +118,23 @@ def test_a_refused_handshake_is_reported_once_per_client_address() -> None:
     ]
     with Recorder([LiveSink(port=port)]):  # closing freed the port
         pass
+
+
+def test_a_client_the_relay_cannot_pass_on_is_closed_and_reported_once() -> None:
+    reports: list[str] = []
+    sink = LiveSink(port=0, report=reports.append)
+    with Recorder([sink]):
+        assert sink._server is not None
+        sink._server.stop()  # nothing left behind the relay: foxglove-sdk is gone
+        for _ in range(2):
+            with connect(
+                sink.url, subprotocols=[Subprotocol("foxglove.sdk.v1")], open_timeout=HANG_GUARD
+            ) as client:
+                with pytest.raises(ConnectionClosedError) as closed:
+                    client.recv(timeout=HANG_GUARD)
+                assert closed.value.rcvd is not None and closed.value.rcvd.code == 1011
+    assert len(reports) == 1
+    assert reports[0].startswith("live: cannot relay 127.0.0.1 to foxglove-sdk's server: ")
 
 
 def test_a_live_run_passes_a_refusal_to_warn_once(tmp_path: Path) -> None:
