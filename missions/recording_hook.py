@@ -4,12 +4,13 @@ A :class:`RecordingHook` gathers everything that watches a run in one object, so
 knows only one callable. Built after the rig and the compiled tree, it starts what the
 :class:`RecordingOptions` ask for:
 
-- ``record`` (MCAP file) and ``live`` (Foxglove WebSocket server): one
-  :class:`~baobab.sim.recording.Recorder` with a sink for each, fed by the robot's sim
+- ``record`` (MCAP file) and ``live`` (Foxglove WebSocket server, both subprotocol names):
+  one :class:`~baobab.sim.recording.Recorder` with a sink for each, fed by the robot's sim
   callbacks (:mod:`baobab.missions.recording_streams`) and, after the tree ticks, its status
   (``/behavior_tree/status``: every node's status, whenever one changed and at least once a
   second) and once a second the running tasks' feedback (``/task/feedback``). Live runs are
-  stamped with the wall clock and paced to it.
+  stamped with the wall clock and paced to it; a client the server refuses is reported
+  through ``warn`` once per address.
 - ``video``: an H.264 MP4 filmed from a camera tracking the TurtleBot3, or a 3/4 view of the
   Panda, one frame every ``1 / fps`` s of sim time.
 - ``btlog``: a Groot2 replay log (BehaviorTree.CPP ``FileLogger2``) of the tree's status
@@ -26,6 +27,7 @@ unless asked: foxglove, PyAV and the renderer are imported only by runs that use
 from __future__ import annotations
 
 import math
+import queue
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -126,6 +128,9 @@ class RecordingHook:
         self._goal_leaves = compiled.goal_leaves()
         self._recorder: Recorder | None = None
         self._live_url: str | None = None
+        self._warn = warn
+        self._live_reports: queue.SimpleQueue[str] = queue.SimpleQueue()
+        """What the live server reports from its own thread, passed to ``warn`` at each tick."""
         self._streams: Streams | None = None
         self._video: VideoRecorder | None = None
         self._btlog: BtLogWriter | None = None
@@ -162,7 +167,11 @@ class RecordingHook:
 
         options = self.options
         # The server first: a port in use then fails before the file is created.
-        live = LiveSink(options.host, options.port) if options.live else None
+        live = (
+            LiveSink(options.host, options.port, report=self._live_reports.put)
+            if options.live
+            else None
+        )
         sinks: list[Sink] = [] if live is None else [live]
         if options.record is not None:
             sinks.append(McapSink(options.record))
@@ -174,7 +183,7 @@ class RecordingHook:
         if isinstance(rig, MobileRig):
             self._streams = MobileStreams(recorder, rig)
         elif isinstance(rig, ArmRig):
-            self._streams = ArmStreams(recorder, rig, live=options.live)
+            self._streams = ArmStreams(recorder, rig)
 
     def _start_btlog(self, path: Path) -> None:
         from baobab.sim.btlog import BtLogWriter
@@ -209,6 +218,7 @@ class RecordingHook:
         """Log the tree (and the tasks' feedback each second); sync the viewer."""
         now = self.sim.time
         self._ticks += 1
+        self._pass_live_reports()
         self._log_tree(now)
         recorder = self._recorder
         if recorder is not None and now - self._last_feedback >= FEEDBACK_PERIOD - 1e-9:
@@ -216,6 +226,14 @@ class RecordingHook:
             self._log_feedback(recorder, now)
         if self._viewer is not None:
             self._viewer.sync()
+
+    def _pass_live_reports(self) -> None:
+        """Pass what the live server reported to ``warn``, from the run's thread.
+
+        ``warn`` need not be thread-safe: a forked run sends warnings down a pipe.
+        """
+        while not self._live_reports.empty():
+            self._warn(self._live_reports.get())
 
     def _log_tree(self, now: float, *, final: bool = False) -> None:
         statuses = [node.behaviour.status for node in self._nodes]
@@ -276,6 +294,7 @@ class RecordingHook:
         for part in (self._streams, self._recorder, self._video, self._btlog, self._viewer):
             if part is not None:
                 closers.append(part.close)
+        closers.append(self._pass_live_reports)
         _run_all(closers)
 
     def outputs(self) -> dict[str, Any]:
