@@ -11,8 +11,10 @@ knows only one callable. Built after the rig and the compiled tree, it starts wh
   second) and once a second the running tasks' feedback (``/task/feedback``). Live runs are
   stamped with the wall clock and paced to it; a client the server refuses is reported
   through ``warn`` once per address.
-- ``video``: an H.264 MP4 filmed from a camera tracking the TurtleBot3, or a 3/4 view of the
-  Panda, one frame every ``1 / fps`` s of sim time.
+- ``video``: an H.264 MP4, one frame every ``1 / fps`` s of sim time, filmed by a chase
+  camera behind the TurtleBot3 that rises over walls so the robot shows in every frame, or
+  from a fixed 3/4 view that the Panda and its table fill; each frame says the sim time, the
+  running tasks and their goals (:mod:`baobab.missions.video_caption`).
 - ``btlog``: a Groot2 replay log (BehaviorTree.CPP ``FileLogger2``) of the tree's status
   changes; its node uids are those of :func:`~baobab.missions.export.to_btcpp_log`.
 - ``viewer``: MuJoCo's passive viewer, synced after every tick (paced to the wall clock);
@@ -45,7 +47,7 @@ if TYPE_CHECKING:
     from baobab.missions.robots_wiring import Rig
     from baobab.sim.btlog import BtLogWriter
     from baobab.sim.recording import Recorder
-    from baobab.sim.rendering import VideoRecorder
+    from baobab.sim.rendering import Camera, VideoRecorder
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
@@ -194,15 +196,18 @@ class RecordingHook:
         self._btlog = BtLogWriter(path, xml, start_time_us=time.time_ns() // 1000)
 
     def _start_video(self, rig: Rig, path: Path) -> None:
-        from baobab.missions.robots_wiring import MobileRig
-        from baobab.sim.rendering import PANDA_VIEW, Camera, TrackingCamera, VideoRecorder
+        from baobab.missions.video_caption import VideoCaption
+        from baobab.sim.rendering import VideoRecorder
 
-        camera: Camera = (
-            TrackingCamera(rig.robot.names.body) if isinstance(rig, MobileRig) else PANDA_VIEW
-        )
         width, height = self.options.video_size
         self._video = VideoRecorder(
-            self.sim, path, camera, fps=self.options.fps, width=width, height=height
+            self.sim,
+            path,
+            video_camera(rig, width / height),
+            fps=self.options.fps,
+            width=width,
+            height=height,
+            caption=VideoCaption(self.compiled),
         )
 
     def _start_viewer(self, warn: Callable[[str], None]) -> None:
@@ -311,6 +316,23 @@ class RecordingHook:
         if options.btlog is not None:
             outputs["btlog"] = str(options.btlog)
         return outputs
+
+
+def video_camera(rig: Rig, aspect: float) -> Camera:
+    """What films ``rig``'s run: a chase camera behind a mobile robot, the Panda's scene view.
+
+    Args:
+        rig: the robot, in its start state.
+        aspect: the video's width over its height.
+    """
+    from baobab.missions.robots_wiring import MobileRig
+    from baobab.sim.chase_camera import ChaseCamera
+
+    if isinstance(rig, MobileRig):
+        return ChaseCamera(rig.robot.names.body)
+    from baobab.robots.panda.scene import video_view
+
+    return video_view(rig.sim, aspect)
 
 
 def _tree_nodes(compiled: CompiledMission) -> list[_TreeNode]:

@@ -34,3 +34,7 @@ class WorldError(SourceError):
 
 class SimulationError(BaobabError):
     """The physics went somewhere it must not: a MuJoCo warning or a non-finite state."""
+
+
+class RenderingError(BaobabError):
+    """A frame could not be rendered or a video could not be written."""
