@@ -48,9 +48,11 @@ from baobab.missions.campaign_results import (
 )
 from baobab.missions.campaign_spec import CampaignSpec, build_spec
 from baobab.missions.campaign_vary import CampaignError
+from baobab.missions.errors import MissionError
 from baobab.missions.loader import load_mission
 from baobab.missions.run_command import resolve_mission
 from baobab.missions.run_folder import check_run_folder, default_run_folder
+from baobab.sim.yaml_source import read_yaml_text
 
 CAMPAIGNS_ROOT = Path("campaigns")
 EXIT_OK, EXIT_NOT_INTENDED, EXIT_INTERRUPTED = 0, 1, 130
@@ -61,7 +63,7 @@ def campaign_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> 
     if args.workers is not None and args.scheduler is not None:
         raise CampaignError("give --workers or --scheduler, not both")
     path = resolve_mission(args.mission)
-    text = path.read_text(encoding="utf-8")
+    text = read_yaml_text(path, MissionError)
     mission = load_mission(path, overrides, text=text)
     seed = mission.seed if args.seed is None else args.seed
     spec = build_spec(mission, path, text, overrides, args.vary, args.grid, args.runs, seed)

@@ -17,11 +17,11 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from baobab.sim.errors import WorldError
 from baobab.sim.yaml_source import (
-    MAX_FILE_BYTES,
     FieldValueError,
     describe_validation_error,
     empty_list,
     load_located_yaml,
+    read_yaml_text,
 )
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
@@ -214,21 +214,21 @@ def load_world(name_or_path: str | Path) -> World:
         path = bundled_world_path(text_name)
     else:
         path = Path(name_or_path)
-    key = _cache_key(path)
-    cached = _LOADED.get(key) if key is not None else None
+    text = read_yaml_text(path, WorldError)
+    key = _cache_key(path, text)
+    cached = _LOADED.get(key)
     if cached is not None:
         return cached
-    document = load_located_yaml(path, WorldError)
+    document = load_located_yaml(path, WorldError, text=text)
     if not isinstance(document.data, dict):
         raise document.error((), "a world file must be a mapping of keys", WorldError)
     try:
         world = World.model_validate(document.data)
     except ValidationError as exc:
         raise describe_validation_error(document, exc, (), WorldError) from None
-    if key is not None:
-        if len(_LOADED) >= _LOADED_MAX:
-            _LOADED.pop(next(iter(_LOADED)))
-        _LOADED[key] = world
+    if len(_LOADED) >= _LOADED_MAX:
+        _LOADED.pop(next(iter(_LOADED)))
+    _LOADED[key] = world
     return world
 
 
@@ -239,11 +239,6 @@ same text again."""
 _LOADED_MAX = 32
 
 
-def _cache_key(path: Path) -> tuple[str, bytes] | None:
-    """(resolved path, SHA-256 of the content) of a world file; None if it cannot be read."""
-    try:
-        if not path.is_file() or path.stat().st_size > MAX_FILE_BYTES:
-            return None
-        return str(path.resolve()), hashlib.sha256(path.read_bytes()).digest()
-    except OSError:
-        return None
+def _cache_key(path: Path, text: str) -> tuple[str, bytes]:
+    """(resolved path, SHA-256 of the content) of a world file."""
+    return str(path.resolve()), hashlib.sha256(text.encode("utf-8", "surrogatepass")).digest()
