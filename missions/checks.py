@@ -16,6 +16,7 @@ from baobab.missions.poses import MissionScope, Pose
 from baobab.missions.schema import (
     ARM_EXPECTATIONS,
     LIDAR_FAULTS,
+    MAX_EVENTS,
     MOBILE_EXPECTATIONS,
     NOISE_NEEDS_LIDAR,
     ROBOT_INDEPENDENT_FAULTS,
@@ -46,6 +47,11 @@ class MissionChecks:
 
     def events(self, events: Sequence[Event], timeout: float) -> None:
         """Check timing, capabilities, obstacle names and slots, and positions."""
+        if len(events) > MAX_EVENTS:
+            raise self._error(
+                ("events", MAX_EVENTS),
+                f"{len(events)} events; the limit is {MAX_EVENTS} (MAX_EVENTS)",
+            )
         robot = self.scope.robot
         spawned: dict[str, int] = {}
         order = sorted(range(len(events)), key=lambda i: (events[i].at, i))

@@ -217,6 +217,8 @@ class FaultEvent(_Strict):
 
 
 EVENT_KINDS = ("cancel", "spawn_obstacle", "move_obstacle", "teleop", "fault")
+MAX_EVENTS = 1_000
+"""Most timed events in one mission."""
 
 
 def _event_kind(value: Any) -> str | None:
