@@ -7,6 +7,9 @@ controllers' 8xx, the arm's) or one of the run's own 99xx codes (:class:`Mission
 from __future__ import annotations
 
 import enum
+from collections.abc import Iterable
+
+from baobab.behaviours.ports import ARM, BASE_CONTROLLERS, NAVIGATION
 
 
 class MissionErrorCode(enum.IntEnum):
@@ -27,3 +30,34 @@ class MissionErrorCode(enum.IntEnum):
     """The lidar's scans stayed too noisy to trust for longer than the tolerance."""
     WHEEL_FAULT = 9906
     """A wheel's measured speed stayed far from its command (motor or wheel failure)."""
+
+
+def error_codes(capabilities: Iterable[str]) -> dict[str, frozenset[int]]:
+    """Every code a run of a robot with ``capabilities`` can end with: name -> numbers.
+
+    A name can stand for several numbers (Nav2's ``TIMEOUT`` is 108 for the controller, 207
+    for the planner...); ``expect: error_code`` compares names with names, numbers with numbers.
+    """
+    from baobab.nav import errors as nav_errors
+    from baobab.robots.panda.errors import ArmErrorCode
+    from baobab.robots.turtlebot3.controller_errors import BaseControllerError
+
+    given = set(capabilities)
+    enums: list[type[enum.IntEnum]] = [MissionErrorCode]
+    if NAVIGATION in given:
+        enums += [
+            value
+            for value in vars(nav_errors).values()
+            if isinstance(value, type)
+            and issubclass(value, enum.IntEnum)
+            and value is not enum.IntEnum
+        ]
+    if BASE_CONTROLLERS in given:
+        enums.append(BaseControllerError)
+    if ARM in given:
+        enums.append(ArmErrorCode)
+    codes: dict[str, set[int]] = {}
+    for codes_enum in enums:
+        for member in codes_enum:
+            codes.setdefault(member.name, set()).add(int(member))
+    return {name: frozenset(numbers) for name, numbers in codes.items()}

@@ -18,7 +18,7 @@ class MissionError(SourceError):
     """A mistake in a mission file or in its ``--set`` overrides: ``path:line:col: message``."""
 
 
-MAX_LISTED_NAMES = 12
+MAX_LISTED_NAMES = 40
 """An unknown name's message lists at most this many valid names."""
 
 

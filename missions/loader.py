@@ -296,7 +296,17 @@ class _Loader:
                 )
             return None
         if written is None:
-            return world.spawn if world is not None else None
+            if world is None:
+                return None
+            spawn = Pose.from_planar(world.spawn.x, world.spawn.y, world.spawn.yaw)
+            problem = scope.free_space_problem(spawn)
+            if problem is not None:
+                raise self._error(
+                    ("world",),
+                    f"the start (world '{world.name}', spawn 'default') {problem}; give the "
+                    "mission a start: in free space",
+                )
+            return world.spawn
         try:
             pose = scope.resolve(written)
         except ValidationError as exc:

@@ -57,10 +57,13 @@ def nav2_command(args: argparse.Namespace) -> int:
 def parse_start(text: str | None, world: World) -> Pose2D | None:
     """The pose of ``--start X,Y[,YAW]`` (m, m, rad), checked to be free in ``world``.
 
+    Without ``--start`` (None), the world's default spawn is checked instead.
+
     Raises:
         Nav2ArgumentError: not two or three finite numbers, or a pose the robot cannot stand on.
     """
     if text is None:
+        _check_free(world, world.spawn, "the default spawn")
         return None
     parts = text.split(",")
     try:
@@ -70,14 +73,18 @@ def parse_start(text: str | None, world: World) -> Pose2D | None:
     if len(values) not in (2, 3) or not all(math.isfinite(value) for value in values):
         raise Nav2ArgumentError(f"--start: expected X,Y,YAW (m, m, rad), got '{text}'")
     pose = Pose2D(x=values[0], y=values[1], yaw=values[2] if len(values) == 3 else 0.0)
+    _check_free(world, pose, "--start")
+    return pose
+
+
+def _check_free(world: World, pose: Pose2D, what: str) -> None:
     from baobab.nav.navigator_robot import NavigatorSetupError, check_free
     from baobab.robots.turtlebot3 import BURGER
 
     try:
-        check_free(world, pose, BURGER.footprint_radius, what="--start")
+        check_free(world, pose, BURGER.footprint_radius, what=what)
     except NavigatorSetupError as exc:
         raise Nav2ArgumentError(str(exc)) from None
-    return pose
 
 
 def parse_seed(text: str) -> int:

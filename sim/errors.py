@@ -5,7 +5,7 @@ from __future__ import annotations
 import unicodedata
 from pathlib import Path
 
-MAX_MESSAGE_CHARS = 400
+MAX_MESSAGE_CHARS = 1000
 """A message longer than this is cut in its middle (a huge value echoed, a long list)."""
 MAX_VALUE_CHARS = 60
 """A user's value echoed in a message is cut to this many characters (:func:`clip`)."""
