@@ -15,11 +15,12 @@ import re
 from collections.abc import Mapping
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import ConfigDict, Field, ValidationError, model_validator
 
 from baobab.missions.errors import FieldError, MissionError, located, unknown_name
 from baobab.missions.poses import parse_pose
 from baobab.sim.errors import SourceError, clip
+from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml
 
 ParamType = Literal["int", "float", "str", "bool", "pose"]
@@ -30,7 +31,7 @@ _TRUE = {"true", "yes", "on", "1"}
 _FALSE = {"false", "no", "off", "0"}
 
 
-class ParamSpec(BaseModel):
+class ParamSpec(YamlModel):
     """One declared parameter of a mission or a subtree."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -82,19 +83,19 @@ class ParamSpec(BaseModel):
         is_number = isinstance(value, int | float) and not isinstance(value, bool)
         if self.type == "int":
             if not isinstance(value, int) or isinstance(value, bool):
-                raise ValueError(f"expected an integer, got {clip(repr(value))}")
+                raise ValueError(f"expected an integer, got {_shown(value)}")
             return value
         if self.type == "float":
             if not is_number or not math.isfinite(value):
-                raise ValueError(f"expected a finite number, got {clip(repr(value))}")
+                raise ValueError(f"expected a finite number, got {_shown(value)}")
             return float(value)
         if self.type == "str":
             if not isinstance(value, str):
-                raise ValueError(f"expected a string, got {clip(repr(value))}")
+                raise ValueError(f"expected a string, got {_shown(value)}")
             return value
         if self.type == "bool":
             if not isinstance(value, bool):
-                raise ValueError(f"expected true or false, got {clip(repr(value))}")
+                raise ValueError(f"expected true or false, got {_shown(value)}")
             return value
         if isinstance(value, str):
             return value  # a location name, resolved where the parameter is used
@@ -145,6 +146,11 @@ class ParamSpec(BaseModel):
                     f"expected a location name or a pose mapping, got '{clip(text)}'"
                 ) from None
         return self.check(value)
+
+
+def _shown(value: Any) -> str:
+    """A value of the wrong type, for a message: ``true``, ``'text'``, ``[1, 2]``."""
+    return _format(value) if isinstance(value, bool) else clip(repr(value))
 
 
 def _format(value: Any) -> str:

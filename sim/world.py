@@ -13,9 +13,10 @@ from functools import cached_property
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import ConfigDict, Field, ValidationError, model_validator
 
 from baobab.sim.errors import WorldError
+from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import (
     FieldValueError,
     describe_validation_error,
@@ -61,7 +62,7 @@ MAX_NAMED_POSES = 1_000
 """Most spawns and locations in one world."""
 
 
-class _Strict(BaseModel):
+class _Strict(YamlModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
