@@ -14,7 +14,7 @@ import argparse
 import math
 import sys
 
-from baobab.sim.errors import BaobabError
+from baobab.sim.errors import BaobabError, clip, one_line
 from baobab.sim.world import Pose2D, World, load_world
 
 EXIT_INVALID = 2
@@ -48,7 +48,7 @@ def nav2_command(args: argparse.Namespace) -> int:
         start = parse_start(args.start, world)
         seed = parse_seed(args.seed)
     except Nav2ArgumentError as exc:
-        print(f"baobab nav2: {exc}", file=sys.stderr)
+        print(one_line(f"baobab nav2: {exc}"), file=sys.stderr)
         return EXIT_INVALID
     defaults = {"world": args.world, "start": start, "seed": seed, "realtime": args.realtime}
     return run_nav2_script(args.script, navigator_defaults=defaults)
@@ -71,7 +71,7 @@ def parse_start(text: str | None, world: World) -> Pose2D | None:
     except ValueError:
         values = []
     if len(values) not in (2, 3) or not all(math.isfinite(value) for value in values):
-        raise Nav2ArgumentError(f"--start: expected X,Y,YAW (m, m, rad), got '{text}'")
+        raise Nav2ArgumentError(f"--start: expected X,Y,YAW (m, m, rad), got '{clip(text)}'")
     pose = Pose2D(x=values[0], y=values[1], yaw=values[2] if len(values) == 3 else 0.0)
     _check_free(world, pose, "--start")
     return pose
@@ -98,5 +98,5 @@ def parse_seed(text: str) -> int:
     except ValueError:
         seed = -1
     if seed < 0:
-        raise Nav2ArgumentError(f"--seed: expected a non-negative whole number, got '{text}'")
+        raise Nav2ArgumentError(f"--seed: expected a non-negative whole number, got '{clip(text)}'")
     return seed

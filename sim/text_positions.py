@@ -25,11 +25,12 @@ class TextPositions:
     def __init__(self, text: str) -> None:
         self._text = text
         self._starts: list[int] | None = None
-        self._marks_need_index = any(char in text for char in YAML11_ONLY_BREAKS)
+        self.has_yaml11_breaks = any(char in text for char in YAML11_ONLY_BREAKS)
+        """True when the text holds a character only YAML 1.1 counts as a line break."""
 
     def of_mark(self, mark: Any) -> tuple[int, int]:
         """(line, column) of a PyYAML mark (``line``, ``column``, ``index``, 0-based)."""
-        if not self._marks_need_index:
+        if not self.has_yaml11_breaks:
             return mark.line + 1, mark.column + 1
         return self.of_index(mark.index)
 

@@ -8,7 +8,6 @@ Python data and keep a table from each value's key path to its (line, column). P
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,6 +19,7 @@ from pydantic import ValidationError
 from baobab.sim.errors import BaobabError, SourceError, clip
 from baobab.sim.input_files import MAX_INPUT_BYTES, read_input_file
 from baobab.sim.text_positions import TextPositions
+from baobab.sim.yaml11 import scalar_surprise, unquoted_break
 from baobab.sim.yaml_limits import (
     ScanProblem,
     events_at_most,
@@ -135,6 +135,10 @@ def load_located_yaml(
         text = read_yaml_text(path, error_type)
     text = text.removeprefix("\ufeff")  # the parsers skip it, but only one counts it in marks
     positions = TextPositions(text)
+    if positions.has_yaml11_breaks:
+        found = unquoted_break(text)
+        if found is not None:
+            raise error_type(shown, *positions.of_index(found[0]), found[1])
     fast = _load_with_libyaml(shown, text, positions, error_type)
     if fast is not None:
         return fast
@@ -284,7 +288,6 @@ _PLAIN_TAGS = {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}
 _CONSTRUCTOR = yaml.SafeLoader.__new__(yaml.SafeLoader)
 yaml.constructor.SafeConstructor.__init__(_CONSTRUCTOR)
 _STR_TAG = "tag:yaml.org,2002:str"
-_BOOL_TAG = "tag:yaml.org,2002:bool"
 _INT_TAG = "tag:yaml.org,2002:int"
 _FLOAT_TAG = "tag:yaml.org,2002:float"
 _DECIMAL_CHARACTERS = frozenset("0123456789.eE+-")
@@ -409,7 +412,7 @@ def _scalar(node: yaml.Node) -> Any:
         # would keep them all (and their marks) alive.
         _CONSTRUCTOR.constructed_objects.clear()
         _CONSTRUCTOR.recursive_objects.clear()
-    surprise = _yaml11_surprise(node.tag, text, value)
+    surprise = scalar_surprise(node.tag, text, value)
     if surprise is not None:
         raise ValueError(surprise)
     if isinstance(value, float) and not math.isfinite(value):
@@ -420,38 +423,3 @@ def _scalar(node: yaml.Node) -> Any:
         # Timestamps, binary blobs and the like: keep the text as written.
         return text
     return value
-
-
-_YAML11_BOOLEAN_WORDS = frozenset(
-    word for base in ("yes", "no", "on", "off") for word in (base, base.title(), base.upper())
-)
-_OCTAL = re.compile(r"^[-+]?0[0-7_]+$")
-
-
-def _yaml11_surprise(tag: str, text: str, value: Any) -> str | None:
-    """Why a plain scalar means something else in YAML 1.1 (PyYAML) than in YAML 1.2, or None.
-
-    YAML 1.2 and most other tools read ``off`` and ``yes`` as text, ``1:30`` as text and
-    ``010`` as ten; PyYAML reads false, true, 90 and eight. Such a value is refused with the
-    two ways to write what was meant.
-    """
-    if tag == _BOOL_TAG and text in _YAML11_BOOLEAN_WORDS:
-        word = "true" if value else "false"
-        return (
-            f"'{text}' reads as {word} in YAML 1.1; write {word} for a yes/no value, or quote "
-            f"it ('{text}') for a name or text"
-        )
-    if tag in (_INT_TAG, _FLOAT_TAG) and ":" in text:
-        number = f"{value:g}" if isinstance(value, float) else str(value)
-        return (
-            f"'{clip(text)}' reads as the base-60 number {number} in YAML 1.1; write {number} "
-            f"if you mean that number, or quote it ('{clip(text)}') for text"
-        )
-    if tag == _INT_TAG and _OCTAL.match(text):
-        sign = "-" if text.startswith("-") else ""
-        decimal = sign + (text.replace("_", "").lstrip("+-").lstrip("0") or "0")
-        return (
-            f"'{clip(text)}' reads as the octal number {value} in YAML 1.1; write {decimal} "
-            f"without the leading zero, or quote it ('{clip(text)}') for text"
-        )
-    return None
