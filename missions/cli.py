@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
 from baobab.missions.startup import loading_modules, skip_pydantic_plugin_discovery
-from baobab.sim.errors import BaobabError, SourceError, clip, one_line
+from baobab.sim.errors import BaobabError, SourceError, one_line
 
 if TYPE_CHECKING:
     from baobab.behaviours.ports import Capabilities
@@ -53,7 +53,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             # A run writes its arguments (--set values, paths) into UTF-8 files (result.json,
             # the trace): refuse them now rather than after the simulation.
             print(
-                f"baobab: argument '{clip(argument)}' is not valid UTF-8 text; "
+                f"baobab: argument '{one_line(argument)}' is not valid UTF-8 text; "
                 "write it (and name files) in UTF-8",
                 file=sys.stderr,
             )
