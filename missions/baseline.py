@@ -23,14 +23,18 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from baobab.missions.expectations import ExpectationResult
-from baobab.missions.metrics import MetricValue, numeric
-from baobab.missions.trace import jsonable
 from baobab.sim.errors import SourceError, clip
 from baobab.sim.input_files import read_input_file
 from baobab.sim.text_positions import TextPositions
+
+if TYPE_CHECKING:
+    from baobab.missions.expectations import ExpectationResult
+    from baobab.missions.metrics import MetricValue
+
+# Reading a baseline loads nothing heavy (a bad --baseline is refused as fast as a bad
+# mission); comparing and writing load the run's metrics and expectations.
 
 FORMAT_VERSION = 1
 DEFAULT_TOLERANCE = 0.10
@@ -149,17 +153,20 @@ def _numbers(path: Path, value: Any, key: str) -> dict[str, float]:
         raise BaselineError(path, 1, 1, f"'{key}' must be an object of numbers")
     numbers: dict[str, float] = {}
     for name, item in value.items():
-        number = numeric(item)
-        if number is None or not math.isfinite(number):
+        is_number = isinstance(item, int | float) and not isinstance(item, bool)
+        if not is_number or not math.isfinite(item):
             raise BaselineError(
                 path, 1, 1, f"{key}.{clip(name)} must be a finite number, got {clip(repr(item))}"
             )
-        numbers[str(name)] = number
+        numbers[str(name)] = float(item)
     return numbers
 
 
 def compare(baseline: Baseline, metrics: Mapping[str, MetricValue]) -> list[ExpectationResult]:
     """One ``baseline.<metric>`` result per baseline metric this run measured."""
+    from baobab.missions.expectations import ExpectationResult
+    from baobab.missions.metrics import numeric
+
     results: list[ExpectationResult] = []
     for name, reference in baseline.metrics.items():
         measured = numeric(metrics.get(name))
@@ -186,6 +193,9 @@ def write_baseline(
     metrics: Mapping[str, MetricValue],
 ) -> Baseline:
     """Store this run's baseline metrics in ``path`` (atomically) and return the baseline."""
+    from baobab.missions.metrics import numeric
+    from baobab.missions.trace import jsonable
+
     values = {
         name: round(number, 6)
         for name in DEFAULT_SLACK
