@@ -41,8 +41,11 @@ def configure_nav2(parser: argparse.ArgumentParser) -> None:
 
 def nav2_command(args: argparse.Namespace) -> int:
     """Check the arguments, then run the script; its exit status, or 2 for bad arguments."""
-    from baobab.nav.script_runner import run_nav2_script
+    from pathlib import Path
 
+    from baobab.nav.script_runner import check_script, run_nav2_script
+
+    check_script(Path(args.script))  # a ScriptError is located: main() prints it, exits 2
     try:
         world = load_world(args.world)  # a WorldError is located: main() prints it, exits 2
         start = parse_start(args.start, world)
