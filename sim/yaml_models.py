@@ -24,28 +24,54 @@ class YamlModel(BaseModel):
     @model_validator(mode="before")
     @classmethod
     def _no_booleans_for_numbers(cls, value: Any) -> Any:
-        if not isinstance(value, dict):
+        if type(value) is not dict:
             return value
-        for name, annotation in _typed_fields(cls).items():
-            if name in value:
-                found = _mistyped(annotation, value[name])
-                if found is not None:
-                    where, message = found
-                    raise FieldValueError((name, *where), message)
+        for name, kind, annotation in _plan(cls):
+            item = value.get(name)
+            held = type(item)
+            if kind is _NUMBER:
+                if held is not bool:
+                    continue
+            elif kind is _BOOLEAN:
+                if held is not int and held is not float:
+                    continue
+            elif held not in _CHECKED_TYPES:
+                continue
+            found = _mistyped(annotation, item)
+            if found is not None:
+                raise FieldValueError((name, *found[0]), found[1])
         return value
 
 
-@cache
-def _typed_fields(model: type[BaseModel]) -> dict[str, Any]:
-    """The fields of ``model`` that hold numbers or booleans somewhere, by name."""
-    return {
-        name: info.annotation
-        for name, info in model.model_fields.items()
-        if _holds_numbers_or_booleans(info.annotation)
-    }
-
-
+_NUMBER, _BOOLEAN, _NESTED = "number", "boolean", "nested"
 _NUMBERS = (int, float)
+_CHECKED_TYPES = (bool, int, float, list, dict)
+
+
+@cache
+def _plan(model: type[BaseModel]) -> tuple[tuple[str, str, Any], ...]:
+    """(field, kind, annotation) for each field of ``model`` that holds numbers or booleans.
+
+    Made once per model: a pose built in a control loop pays a few dictionary look-ups.
+    """
+    plan = []
+    for name, info in model.model_fields.items():
+        annotation = info.annotation
+        base = _unwrapped(annotation)
+        if base in _NUMBERS:
+            plan.append((name, _NUMBER, annotation))
+        elif base is bool:
+            plan.append((name, _BOOLEAN, annotation))
+        elif _holds_numbers_or_booleans(annotation):
+            plan.append((name, _NESTED, annotation))
+    return tuple(plan)
+
+
+def _unwrapped(annotation: Any) -> Any:
+    """``float`` for ``Annotated[float, ...]``; the annotation itself otherwise."""
+    while typing.get_origin(annotation) is typing.Annotated:
+        annotation = typing.get_args(annotation)[0]
+    return annotation
 
 
 def _holds_numbers_or_booleans(annotation: Any) -> bool:
