@@ -199,6 +199,6 @@ def test_an_unusable_live_address_is_refused_before_the_run(
     argv = ["run", str(mission), "--live", "--host", host, "--port", port]
     assert main([*argv, "--out", str(tmp_path / "run")]) == 2
     err = capsys.readouterr().err
-    assert err.startswith(f"baobab run: cannot serve Foxglove on {host}:{port}: "), err
-    assert err.count("\n") == 1
+    assert err.startswith("baobab run: ") and err.count("\n") == 1, err
+    assert "cannot serve" in err and f" on {host}:{port}: " in err  # before any server starts
     assert not (tmp_path / "run").exists()
