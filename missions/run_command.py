@@ -262,8 +262,9 @@ def recording_options(args: argparse.Namespace) -> RecordingOptions:
     """The recording flags of ``baobab run``, checked before anything runs.
 
     Raises:
-        BaobabError: a tuning flag without the flag it tunes, a missing folder, a ``--btlog``
-            without its suffix, or ``--video`` without PyAV.
+        BaobabError: a tuning flag without the flag it tunes, a missing folder or a folder
+            where a file goes, a ``--btlog`` without its suffix, ``--video`` without PyAV, a
+            ``--live`` address the server could not listen on.
     """
     if not args.live and (args.host is not None or args.port is not None):
         raise BaobabError("--host and --port set up --live, which is not given")
@@ -272,6 +273,8 @@ def recording_options(args: argparse.Namespace) -> RecordingOptions:
     for flag, path in (("--record", args.record), ("--video", args.video), ("--btlog", args.btlog)):
         if path is not None and not path.parent.is_dir():
             raise BaobabError(f"{flag} {path}: the folder {path.parent} does not exist")
+        if path is not None and path.is_dir():
+            raise BaobabError(f"{flag} {path}: is a folder; give a file name")
     if args.btlog is not None and args.btlog.suffix != ".btlog":
         raise BaobabError(f"--btlog {args.btlog}: Groot2 reads only files ending in .btlog")
     if args.video is not None:
@@ -281,11 +284,17 @@ def recording_options(args: argparse.Namespace) -> RecordingOptions:
             raise BaobabError(
                 '--video needs PyAV, which is not installed: pip install "baobab[video]"'
             ) from None
+    host = DEFAULT_HOST if args.host is None else args.host
+    port = DEFAULT_PORT if args.port is None else args.port
+    if args.live:
+        from baobab.sim.recording_sinks import LiveSink
+
+        LiveSink.check_address(host, port)  # a RecordingError: exit 2 before the run
     return RecordingOptions(
         record=args.record,
         live=args.live,
-        host=DEFAULT_HOST if args.host is None else args.host,
-        port=DEFAULT_PORT if args.port is None else args.port,
+        host=host,
+        port=port,
         video=args.video,
         fps=DEFAULT_FPS if args.fps is None else args.fps,
         video_size=DEFAULT_VIDEO_SIZE if args.video_size is None else args.video_size,

@@ -234,12 +234,17 @@ def teleop_command(args: argparse.Namespace) -> int:
 
     Raises:
         WorldError: for an unknown world (the CLI prints it and exits 2).
+        NavigatorSetupError: the world's default spawn is not free for the robot (exit 2).
     """
+    world = load_world(args.world)
+    from baobab.nav.navigator_robot import check_free
+    from baobab.robots.turtlebot3 import BURGER
+
+    check_free(world, world.spawn, BURGER.footprint_radius, what="the default spawn")
     stdin = sys.stdin
     if stdin is None or not stdin.isatty():
         print("baobab teleop: needs an interactive terminal (stdin is not a TTY)", file=sys.stderr)
         return EXIT_INVALID
-    world = load_world(args.world)
     keys = TerminalKeys(layout_named(args.layout), hold_time=args.hold)
     session = TeleopSession(world, keys)
     out = sys.stdout

@@ -132,6 +132,33 @@ class LiveSink(Sink):
             self.close()
             raise RecordingError(f"cannot serve Foxglove on {where}: {error}") from error
 
+    @staticmethod
+    def check_address(host: str, port: int) -> None:
+        """Raise unless a server could listen on ``host``:``port`` now (before a run starts).
+
+        Resolves ``host`` as the server does (a name, an IPv4 or IPv6 address, ``[::1]``) and
+        binds a probe socket to it, with the address reuse the server's listener sets too.
+
+        Raises:
+            RecordingError: the host does not resolve, is not this machine's, or the port is
+                taken or not allowed.
+        """
+        import socket
+
+        name = host[1:-1] if host.startswith("[") and host.endswith("]") else host
+        try:
+            if not name:
+                raise OSError(0, "no address given")
+            family, kind, protocol, _, address = socket.getaddrinfo(
+                name, port, type=socket.SOCK_STREAM
+            )[0]
+            with socket.socket(family, kind, protocol) as probe:
+                probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+                probe.bind(address)
+        except (OSError, UnicodeError) as error:
+            reason = getattr(error, "strerror", None) or str(error)
+            raise RecordingError(f"cannot serve Foxglove on {host}:{port}: {reason}") from None
+
     @property
     def port(self) -> int:
         """The port the server listens on."""
