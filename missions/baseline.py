@@ -23,12 +23,18 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from baobab.missions.expectations import ExpectationResult
-from baobab.missions.metrics import MetricValue, numeric
-from baobab.missions.trace import jsonable
-from baobab.sim.errors import SourceError
+from baobab.sim.errors import SourceError, clip
+from baobab.sim.input_files import read_input_file
+from baobab.sim.text_positions import TextPositions
+
+if TYPE_CHECKING:
+    from baobab.missions.expectations import ExpectationResult
+    from baobab.missions.metrics import MetricValue
+
+# Reading a baseline loads nothing heavy (a bad --baseline is refused as fast as a bad
+# mission); comparing and writing load the run's metrics and expectations.
 
 FORMAT_VERSION = 1
 DEFAULT_TOLERANCE = 0.10
@@ -77,32 +83,69 @@ def read_baseline(path: Path, mission: str) -> Baseline | None:
     Raises:
         BaselineError: unreadable JSON, a wrong shape, or a baseline of another mission.
     """
-    if not path.exists():
+    if not os.path.lexists(path):
         return None
+    raw = read_input_file(path, BaselineError, expected="a baseline JSON file")
     try:
-        text = path.read_text(encoding="utf-8")
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line, column = TextPositions(raw[: exc.start].decode("utf-8")).of_index(exc.start)
+        raise BaselineError(path, line, column, "not valid UTF-8 text") from None
+    try:
         data = json.loads(text)
+    except RecursionError:
+        raise _too_deep(path, text) from None
     except json.JSONDecodeError as exc:
         raise BaselineError(path, exc.lineno, exc.colno, f"not valid JSON: {exc.msg}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BaselineError(path, 1, 1, f"cannot read the baseline: {exc}") from None
+    except ValueError as exc:  # a number of more than 4300 digits
+        raise BaselineError(path, 1, 1, f"not a usable JSON value: {exc}") from None
     if not isinstance(data, dict) or data.get("baobab_baseline") != FORMAT_VERSION:
         raise BaselineError(
             path, 1, 1, f'not a baobab baseline (expected "baobab_baseline": {FORMAT_VERSION})'
         )
     if data.get("mission") != mission:
         raise BaselineError(
-            path, 1, 1, f"baseline of mission '{data.get('mission')}', not of '{mission}'"
+            path, 1, 1, f"baseline of mission '{clip(data.get('mission'))}', not of '{mission}'"
         )
     metrics = _numbers(path, data.get("metrics"), "metrics")
     slack = {**DEFAULT_SLACK, **_numbers(path, data.get("slack", {}), "slack")}
     tolerance = data.get("tolerance", DEFAULT_TOLERANCE)
     if isinstance(tolerance, bool) or not isinstance(tolerance, int | float) or tolerance < 0:
-        raise BaselineError(path, 1, 1, f"tolerance must be a number >= 0, got {tolerance!r}")
+        raise BaselineError(
+            path, 1, 1, f"tolerance must be a number >= 0, got {clip(repr(tolerance))}"
+        )
     seed = data.get("seed")
     return Baseline(
         path, mission, metrics, float(tolerance), slack, seed if isinstance(seed, int) else None
     )
+
+
+MAX_JSON_DEPTH = 64
+"""Where a baseline too deeply nested for Python's JSON parser is blamed (a baseline nests 2)."""
+
+
+def _too_deep(path: Path, text: str) -> BaselineError:
+    """The error for JSON that nests past the parser's recursion limit, at the bracket that
+    first nests deeper than :data:`MAX_JSON_DEPTH`."""
+    depth, in_string, escaped = 0, False, False
+    for index, char in enumerate(text):
+        if escaped:
+            escaped = False
+        elif in_string:
+            escaped = char == "\\"
+            in_string = char != '"'
+        elif char == '"':
+            in_string = True
+        elif char in "[{":
+            depth += 1
+            if depth > MAX_JSON_DEPTH:
+                line, column = TextPositions(text).of_index(index)
+                return BaselineError(
+                    path, line, column, f"JSON nested deeper than {MAX_JSON_DEPTH} levels"
+                )
+        elif char in "]}":
+            depth -= 1
+    return BaselineError(path, 1, 1, "JSON nested too deeply")
 
 
 def _numbers(path: Path, value: Any, key: str) -> dict[str, float]:
@@ -110,15 +153,20 @@ def _numbers(path: Path, value: Any, key: str) -> dict[str, float]:
         raise BaselineError(path, 1, 1, f"'{key}' must be an object of numbers")
     numbers: dict[str, float] = {}
     for name, item in value.items():
-        number = numeric(item)
-        if number is None or not math.isfinite(number):
-            raise BaselineError(path, 1, 1, f"{key}.{name} must be a finite number, got {item!r}")
-        numbers[str(name)] = number
+        is_number = isinstance(item, int | float) and not isinstance(item, bool)
+        if not is_number or not math.isfinite(item):
+            raise BaselineError(
+                path, 1, 1, f"{key}.{clip(name)} must be a finite number, got {clip(repr(item))}"
+            )
+        numbers[str(name)] = float(item)
     return numbers
 
 
 def compare(baseline: Baseline, metrics: Mapping[str, MetricValue]) -> list[ExpectationResult]:
     """One ``baseline.<metric>`` result per baseline metric this run measured."""
+    from baobab.missions.expectations import ExpectationResult
+    from baobab.missions.metrics import numeric
+
     results: list[ExpectationResult] = []
     for name, reference in baseline.metrics.items():
         measured = numeric(metrics.get(name))
@@ -145,6 +193,9 @@ def write_baseline(
     metrics: Mapping[str, MetricValue],
 ) -> Baseline:
     """Store this run's baseline metrics in ``path`` (atomically) and return the baseline."""
+    from baobab.missions.metrics import numeric
+    from baobab.missions.trace import jsonable
+
     values = {
         name: round(number, 6)
         for name in DEFAULT_SLACK

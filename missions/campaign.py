@@ -33,6 +33,7 @@ from concurrent.futures import FIRST_COMPLETED, CancelledError, Future, wait
 from contextlib import contextmanager
 from dataclasses import dataclass
 from datetime import UTC, datetime
+from importlib import resources
 from pathlib import Path
 from types import FrameType
 from typing import Any
@@ -40,6 +41,7 @@ from typing import Any
 from baobab.missions.campaign_exec import ERROR, CampaignExecutor, RunOutcome, failed_row
 from baobab.missions.campaign_results import RESULTS_FILE, ResultsTable
 from baobab.missions.campaign_spec import CampaignSpec, RunTask
+from baobab.missions.campaign_variant import REPLAY_SCHEMA
 
 POLL_PERIOD = 0.2
 """How often the loop looks for a Ctrl-C while runs are in flight (s, wall clock)."""
@@ -121,9 +123,13 @@ class ReplayTarget:
         return shlex.join(words)
 
     def write_variant(self, task: RunTask, text: str) -> Path:
-        """Write the variant file of ``task`` (and the world file it needs, once)."""
+        """Write the variant file of ``task`` (and, once, the world file it needs and the
+        schema its editor comment names)."""
         path = self.folder / task.variant_label
         path.parent.mkdir(parents=True, exist_ok=True)
+        schema = path.parent / REPLAY_SCHEMA
+        if not schema.exists():
+            shutil.copyfile(Path(str(resources.files("baobab.missions") / REPLAY_SCHEMA)), schema)
         if self.world_file is not None:
             world_copy = path.parent / self.world_file
             if not world_copy.exists():

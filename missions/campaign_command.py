@@ -23,22 +23,8 @@ import sys
 import time
 from collections.abc import Mapping
 from pathlib import Path
-from typing import IO, Any
+from typing import IO, TYPE_CHECKING, Any
 
-from baobab.missions.campaign import (
-    Interruption,
-    catch_sigint,
-    replay_target,
-    results_path,
-    run_campaign,
-)
-from baobab.missions.campaign_exec import (
-    CampaignExecutor,
-    DaskExecutor,
-    LocalExecutor,
-    preload_modules,
-)
-from baobab.missions.campaign_plot import PLOT_FILE, save_campaign_plot
 from baobab.missions.campaign_results import (
     CampaignSummary,
     ResultsTable,
@@ -48,9 +34,18 @@ from baobab.missions.campaign_results import (
 )
 from baobab.missions.campaign_spec import CampaignSpec, build_spec
 from baobab.missions.campaign_vary import CampaignError
+from baobab.missions.errors import MissionError
 from baobab.missions.loader import load_mission
 from baobab.missions.run_command import resolve_mission
 from baobab.missions.run_folder import check_run_folder, default_run_folder
+from baobab.sim.yaml_source import read_yaml_text
+
+if TYPE_CHECKING:
+    from baobab.missions.campaign_exec import CampaignExecutor
+
+# What runs the campaign (the executors, and through them the whole simulation stack) and
+# plots it is imported once the input is checked, so a mistake is refused in well under a
+# second.
 
 CAMPAIGNS_ROOT = Path("campaigns")
 EXIT_OK, EXIT_NOT_INTENDED, EXIT_INTERRUPTED = 0, 1, 130
@@ -61,7 +56,7 @@ def campaign_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> 
     if args.workers is not None and args.scheduler is not None:
         raise CampaignError("give --workers or --scheduler, not both")
     path = resolve_mission(args.mission)
-    text = path.read_text(encoding="utf-8")
+    text = read_yaml_text(path, MissionError)
     mission = load_mission(path, overrides, text=text)
     seed = mission.seed if args.seed is None else args.seed
     spec = build_spec(mission, path, text, overrides, args.vary, args.grid, args.runs, seed)
@@ -69,6 +64,14 @@ def campaign_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> 
         args.out if args.out is not None else default_run_folder(mission.name, root=CAMPAIGNS_ROOT)
     )
     check_run_folder(folder)
+    from baobab.missions.campaign import (
+        Interruption,
+        catch_sigint,
+        replay_target,
+        results_path,
+        run_campaign,
+    )
+
     executor = open_executor(args.workers, args.scheduler, spec)
     interruption = Interruption()
     stream = sys.stderr if args.json else sys.stdout
@@ -118,6 +121,8 @@ def open_executor(
     Raises:
         CampaignError: a bad ``--workers``, dask missing, or an unreachable scheduler.
     """
+    from baobab.missions.campaign_exec import DaskExecutor, LocalExecutor, preload_modules
+
     if scheduler is not None:
         return DaskExecutor(scheduler)
     if workers is None:
@@ -134,6 +139,9 @@ def summarise(
     spec: CampaignSpec, folder: Path, interrupted: bool, executor: str
 ) -> CampaignSummary:
     """The summary of the rows in ``folder``'s table; draws ``outcomes.png``."""
+    from baobab.missions.campaign import results_path
+    from baobab.missions.campaign_plot import PLOT_FILE, save_campaign_plot
+
     results = results_path(folder)
     rows = read_rows(results)
     summary = CampaignSummary(spec.mission.name, spec.total_runs, rows, interrupted)

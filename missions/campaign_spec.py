@@ -206,9 +206,25 @@ def build_spec(
     Raises:
         CampaignError: the first problem, as one line.
     """
+    if runs is not None and runs < 1:
+        raise CampaignError(f"--runs must be >= 1, got {runs}")
+    if runs is not None and runs > MAX_RUNS:
+        raise CampaignError(f"--runs {runs}: at most {MAX_RUNS} runs in one campaign (MAX_RUNS)")
     targets = variable_keys(mission)
-    parsed: list[Variation | GridAxis] = [parse_vary(text, targets) for text in vary]
-    parsed += [parse_grid(text, targets) for text in grid]
+    # Each grid axis is checked against the runs the earlier axes leave before its values are
+    # made: grid(0,1,100000000) must not make a hundred million values to refuse them.
+    points = 1 if runs is None else runs
+    parsed: list[Variation | GridAxis] = []
+    for option, text in [*(("vary", text) for text in vary), *(("grid", text) for text in grid)]:
+        budget = MAX_RUNS // points
+        item = (
+            parse_vary(text, targets, budget)
+            if option == "vary"
+            else parse_grid(text, targets, budget)
+        )
+        if isinstance(item, GridAxis):
+            points *= len(item.values)
+        parsed.append(item)
     seen: set[str] = set()
     for item in parsed:
         key = item.target.key
@@ -223,8 +239,6 @@ def build_spec(
         raise CampaignError(f"--seed must be >= 0, got {seed}")
     if runs is None and not axes:
         raise CampaignError("give --runs N (or grid axes, each cell then runs once)")
-    if runs is not None and runs < 1:
-        raise CampaignError(f"--runs must be >= 1, got {runs}")
     spec = CampaignSpec(
         mission,
         mission_path,
@@ -238,6 +252,6 @@ def build_spec(
     if spec.total_runs > MAX_RUNS:
         raise CampaignError(
             f"{spec.cells} grid cells x {spec.repeats} runs = {spec.total_runs} runs; "
-            f"at most {MAX_RUNS} in one campaign"
+            f"at most {MAX_RUNS} in one campaign (MAX_RUNS)"
         )
     return spec

@@ -3,9 +3,10 @@
 Parameters go through :func:`~baobab.missions.loader.load_mission`'s overrides, as
 ``baobab run --set`` gives them. A start offset, noise or an event value changes the mission
 data itself: the run's *variant* is the file's data with those values written in (the start
-as the resolved pose plus the offset), dumped back to YAML under the file's schema header, and
-loaded like any mission file. The variant's text is what the run loaded, so writing it to a
-file replays the run exactly (``baobab run VARIANT.yaml --seed S --set ...``).
+as the resolved pose plus the offset), dumped back to YAML under an editor comment that names
+:data:`REPLAY_SCHEMA` beside it, and loaded like any mission file. The variant's text is what
+the run loaded, so writing it to a file replays the run exactly
+(``baobab run VARIANT.yaml --seed S --set ...``).
 """
 
 from __future__ import annotations
@@ -19,9 +20,13 @@ from typing import Any
 import yaml
 
 from baobab.missions.campaign_spec import RunTask
-from baobab.missions.loader import Mission, load_mission
+from baobab.missions.loader import SCHEMA_HEADER, Mission, load_mission
 from baobab.sim.errors import SourceError
 from baobab.sim.yaml_source import KeyPath
+
+REPLAY_SCHEMA = "mission.schema.json"
+"""The schema a variant's editor comment names, in the variant's folder: a copy of the shipped
+``baobab/missions/mission.schema.json`` (the output of ``baobab schema``)."""
 
 
 class _PlainDumper(yaml.SafeDumper):
@@ -76,7 +81,7 @@ def variant_text(mission: Mission, task: RunTask) -> str:
         }
     for key_path, value in task.data_changes:
         _write(data, key_path, value)
-    header = task.mission_text.lstrip("\ufeff").split("\n", 1)[0]
+    header = f"{SCHEMA_HEADER}{REPLAY_SCHEMA}"
     varied = ", ".join(f"{key}={value}" for key, value in task.values.items())
     body = yaml.dump(data, Dumper=_PlainDumper, sort_keys=False, allow_unicode=True, width=100)
     return (

@@ -40,7 +40,7 @@ from baobab.missions.schema import (
     ObstacleSpawn,
     TeleopCommand,
 )
-from baobab.sim.errors import BaobabError
+from baobab.sim.errors import BaobabError, clip
 from baobab.sim.yaml_source import KeyPath
 
 SIGNIFICANT_DIGITS = 6
@@ -242,13 +242,21 @@ def split_assignment(text: str, option: str) -> tuple[str, str]:
     return key.strip(), value.strip()
 
 
-def parse_vary(text: str, targets: Mapping[str, Target]) -> Variation | GridAxis:
+def parse_vary(
+    text: str, targets: Mapping[str, Target], max_points: int | None = None
+) -> Variation | GridAxis:
     """Parse one ``--vary KEY=DIST`` (a ``grid(a,b,n)`` gives a grid axis).
 
+    Args:
+        text: the option's value.
+        targets: the keys the mission can vary.
+        max_points: the most values a grid axis may have (checked before its values are made).
+
     Raises:
-        CampaignError: bad syntax, an unknown key or distribution, numbers that do not fit.
+        CampaignError: bad syntax, an unknown key or distribution, numbers that do not fit,
+            a grid of more than ``max_points`` values.
     """
-    option = f"--vary {text}"
+    option = f"--vary {clip(text)}"
     key, dist = split_assignment(text, "--vary")
     target = find_target(key, targets, option)
     call = _CALL.match(dist)
@@ -267,6 +275,7 @@ def parse_vary(text: str, targets: Mapping[str, Target]) -> Variation | GridAxis
         low, high, count = _numbers(args, 3, "grid(a,b,n)", option)
         if not count.is_integer() or count < 2:
             raise CampaignError(f"{option}: n in grid(a,b,n) is a whole number >= 2")
+        _check_points(count, max_points, option)
         values = tuple(
             format_value(rounded(v)) for v in np.linspace(low, high, int(count)).tolist()
         )
@@ -301,15 +310,17 @@ def parse_vary(text: str, targets: Mapping[str, Target]) -> Variation | GridAxis
 _DIST_NAMES = ("uniform", "normal", "randint", "choice", "grid")
 
 
-def parse_grid(text: str, targets: Mapping[str, Target]) -> GridAxis:
+def parse_grid(text: str, targets: Mapping[str, Target], max_points: int | None = None) -> GridAxis:
     """Parse one ``--grid KEY=v1,v2,...``.
 
     Raises:
-        CampaignError: bad syntax, an unknown key, a value that does not fit, a repeat.
+        CampaignError: bad syntax, an unknown key, a value that does not fit, a repeat, more
+            than ``max_points`` values.
     """
-    option = f"--grid {text}"
+    option = f"--grid {clip(text)}"
     key, listed = split_assignment(text, "--grid")
     target = find_target(key, targets, option)
+    _check_points(listed.count(",") + 1, max_points, option)
     values = [part.strip() for part in listed.split(",")]
     if any(not value for value in values):
         raise CampaignError(f"{option}: an empty value in '{listed}'")
@@ -317,6 +328,14 @@ def parse_grid(text: str, targets: Mapping[str, Target]) -> GridAxis:
         raise CampaignError(f"{option}: a value is listed twice")
     _check_values(target, values, option)
     return GridAxis(target, tuple(values))
+
+
+def _check_points(count: float, max_points: int | None, option: str) -> None:
+    if max_points is not None and count > max_points:
+        raise CampaignError(
+            f"{option}: {count:.0f} grid values; at most {max_points} fit in one campaign with "
+            "the other grid axes and --runs (MAX_RUNS)"
+        )
 
 
 def _numbers(args: Sequence[str], count: int, form: str, option: str) -> list[float]:

@@ -11,11 +11,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from baobab.behaviours.ports import ARM, TELEOP
+from baobab.missions.error_codes import error_codes
 from baobab.missions.errors import MissionError, located, unknown_name
 from baobab.missions.poses import MissionScope, Pose
+from baobab.missions.robot_catalog import RobotInfo
 from baobab.missions.schema import (
     ARM_EXPECTATIONS,
     LIDAR_FAULTS,
+    MAX_EVENTS,
     MOBILE_EXPECTATIONS,
     NOISE_NEEDS_LIDAR,
     ROBOT_INDEPENDENT_FAULTS,
@@ -46,6 +49,11 @@ class MissionChecks:
 
     def events(self, events: Sequence[Event], timeout: float) -> None:
         """Check timing, capabilities, obstacle names and slots, and positions."""
+        if len(events) > MAX_EVENTS:
+            raise self._error(
+                ("events", MAX_EVENTS),
+                f"{len(events)} events; the limit is {MAX_EVENTS} (MAX_EVENTS)",
+            )
         robot = self.scope.robot
         spawned: dict[str, int] = {}
         order = sorted(range(len(events)), key=lambda i: (events[i].at, i))
@@ -163,6 +171,11 @@ class MissionChecks:
                 f"max_sim_time {expect.max_sim_time:g} s is longer than the mission timeout "
                 f"{timeout:g} s",
             )
+        self._error_code(expect.error_code)
+        for name in expect.metrics or {}:
+            problem = metric_name_problem(name, robot)
+            if problem is not None:
+                raise self._error(("expect", "metrics", name), problem)
         if expect.final_pose_near is not None and expect.final_pose_near.location is not None:
             self._location(
                 expect.final_pose_near.location, ("expect", "final_pose_near", "location")
@@ -179,8 +192,33 @@ class MissionChecks:
                     "location {position: [x, y, z]} or [x, y, z]",
                 )
 
+    def _error_code(self, code: int | str | None) -> None:
+        """Refuse a code no run of this robot can end with (the expectation could never hold)."""
+        if code is None:
+            return
+        robot = self.scope.robot
+        known = error_codes(robot.capabilities)
+        if isinstance(code, str) and code not in known:
+            message = unknown_name("error code", code, known, f"runs of {robot.name}")
+            raise self._error(("expect", "error_code"), message)
+        numbers = sorted({number for numbers in known.values() for number in numbers})
+        if isinstance(code, int) and code not in numbers:
+            message = unknown_name(
+                "error code", str(code), map(str, numbers), f"runs of {robot.name}"
+            )
+            raise self._error(("expect", "error_code"), message)
+
     def _location(self, name: str, path: KeyPath) -> Pose:
         try:
             return self.scope.location(name)
         except ValueError as exc:
             raise self._error(path, str(exc)) from None
+
+
+def metric_name_problem(name: str, robot: RobotInfo) -> str | None:
+    """Why ``expect: metrics:`` cannot bound ``name`` in runs of ``robot``, or None."""
+    if name in robot.metrics:
+        return None
+    if name in robot.structured_metrics:
+        return f"metric '{name}' is not a number; bounds apply to: {', '.join(robot.metrics)}"
+    return unknown_name("metric", name, robot.metrics, f"runs of {robot.name}")

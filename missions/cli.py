@@ -25,11 +25,11 @@ import argparse
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from baobab.missions.interrupts import signals_for
 from baobab.missions.startup import loading_modules, skip_pydantic_plugin_discovery
-from baobab.sim.errors import BaobabError, SourceError
+from baobab.sim.errors import BaobabError, SourceError, one_line
 
 if TYPE_CHECKING:
     from baobab.behaviours.ports import Capabilities
@@ -50,6 +50,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     arguments = list(sys.argv[1:] if argv is None else argv)
     command = next((argument for argument in arguments if not argument.startswith("-")), None)
     parser = build_parser(command)
+    for argument in arguments:
+        if not _is_utf8(argument):
+            # A run writes its arguments (--set values, paths) into UTF-8 files (result.json,
+            # the trace): refuse them now rather than after the simulation.
+            print(
+                f"baobab: argument '{one_line(argument)}' is not valid UTF-8 text; "
+                "write it (and name files) in UTF-8",
+                file=sys.stderr,
+            )
+            return EXIT_INVALID
     try:
         args = parser.parse_args(arguments)
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
@@ -62,10 +72,28 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(exc, file=sys.stderr)
         return EXIT_INVALID
     except BaobabError as exc:
-        print(f"baobab {args.command}: {exc}", file=sys.stderr)
+        print(one_line(f"baobab {args.command}: {exc}"), file=sys.stderr)
         return EXIT_INVALID
     except KeyboardInterrupt:
         return EXIT_INTERRUPTED
+
+
+def _is_utf8(argument: str) -> bool:
+    """False for an argument with bytes that are not UTF-8 (``os.fsdecode`` keeps them as
+    lone surrogates)."""
+    try:
+        argument.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with its usage errors on one line (exit 2); ``--help`` is unchanged."""
+
+    def error(self, message: str) -> NoReturn:
+        """Print ``baobab run: <what is wrong> (see baobab run --help)`` and exit 2."""
+        self.exit(EXIT_INVALID, f"{one_line(f'{self.prog}: {message}')} (see {self.prog} --help)\n")
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
@@ -75,7 +103,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
         command: when it names a subcommand, only that one's arguments are set up (setting up
             the others imports what only they need, e.g. the teleop terminal for ``teleop``).
     """
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="baobab",
         description="Robot missions in YAML, compiled to behaviour trees, run over MuJoCo.",
     )
@@ -152,9 +180,8 @@ def _validate(args: argparse.Namespace) -> int:
             failed += 1
             continue
         nodes = len(mission.tree.walk())
-        print(
-            f"{file}: ok ({mission.name}: {mission.robot.name} in {_world(mission)}, {nodes} nodes)"
-        )
+        summary = f"{mission.name}: {mission.robot.name} in {_world(mission)}, {nodes} nodes"
+        print(f"{one_line(file, None)}: ok ({summary})")
     return EXIT_INVALID if failed else EXIT_OK
 
 

@@ -10,7 +10,7 @@ from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
-from baobab.sim.errors import SourceError
+from baobab.sim.errors import MAX_VALUE_CHARS, SourceError, clip
 from baobab.sim.yaml_source import KeyPath, LocatedDocument
 
 
@@ -18,13 +18,27 @@ class MissionError(SourceError):
     """A mistake in a mission file or in its ``--set`` overrides: ``path:line:col: message``."""
 
 
+MAX_LISTED_NAMES = 40
+"""An unknown name's message lists at most this many valid names."""
+
+
 def unknown_name(what: str, name: str, valid: Iterable[str], where: str = "") -> str:
-    """``unknown <what> '<name>' [in <where>]; did you mean '<close>'? valid: a, b, c``."""
+    """``unknown <what> '<name>' [in <where>]; did you mean '<close>'? valid: a, b, c``.
+
+    The name is cut to a readable length (:func:`~baobab.sim.errors.clip`), and so is the list.
+    """
     names = sorted(set(valid))
-    close = difflib.get_close_matches(name, names, n=1, cutoff=0.6)
+    close = (
+        difflib.get_close_matches(name, names, n=1, cutoff=0.6)
+        if len(name) <= MAX_VALUE_CHARS
+        else []
+    )
     hint = f"; did you mean '{close[0]}'?" if close else ";"
     place = f" in {where}" if where else ""
-    return f"unknown {what} '{name}'{place}{hint} valid: {', '.join(names) or '(none)'}"
+    shown = [clip(valid_name) for valid_name in names[:MAX_LISTED_NAMES]]
+    if len(names) > MAX_LISTED_NAMES:
+        shown.append(f"... ({len(names) - MAX_LISTED_NAMES} more)")
+    return f"unknown {what} '{clip(name)}'{place}{hint} valid: {', '.join(shown) or '(none)'}"
 
 
 def data_path(data: Any, loc: Sequence[str | int]) -> KeyPath:
@@ -136,7 +150,7 @@ def describe_validation_error(
             loc = loc + tuple(getattr(cause, "key_path", ()))
             readable = _readable(loc)
         elif kind in ("literal_error", "enum"):
-            message = f"got {first['input']!r}; {message[0].lower()}{message[1:]}"
+            message = f"got {clip(repr(first['input']))}; {message[0].lower()}{message[1:]}"
         where = ".".join(str(p) for p in [*prefix, *readable])
         message = f"{where}: {message}" if where else message
     path = base_path + data_path(data, loc)

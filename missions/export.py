@@ -3,10 +3,12 @@
 The BehaviorTree.CPP export maps baobab's control nodes onto BT.CPP built-ins
 (sequence -> ``Sequence``/``ReactiveSequence``, selector -> ``Fallback``/``ReactiveFallback``,
 parallel -> ``Parallel``, retry -> ``RetryUntilSuccessful``, repeat -> ``Repeat``,
-timeout -> ``Timeout``, wait -> ``Sleep``, ...), writes every other node in compact form with
-its parameters as ports, gives each subtree its own ``<BehaviorTree>`` whose ``${param}``
-references become ``{param}`` blackboard ports, and lists every non-built-in node with its
-ports in a ``<TreeNodesModel>``.
+timeout -> ``Timeout``, wait -> ``Sleep``, durations in ms), writes every other node in compact
+form with its parameters as ports, gives each subtree its own ``<BehaviorTree>`` whose
+``${param}`` references become ``{param}`` blackboard ports (or derived ports, see
+:mod:`~baobab.missions.btcpp_ports`), and lists every non-built-in node and every subtree with
+its ports in a ``<TreeNodesModel>``. A tree BT.CPP cannot express is refused first
+(:func:`~baobab.missions.btcpp_limits.check_expressible`).
 
 :func:`to_btcpp_log` writes the variant BehaviorTree.CPP's ``FileLogger2`` embeds in a Groot2
 ``.btlog``: the expanded tree, one ``<BehaviorTree>`` per subtree *instance*, every node with
@@ -18,25 +20,36 @@ too.
 from __future__ import annotations
 
 import itertools
-import json
-import re
-import types
-import typing
 import xml.etree.ElementTree as ET
 from collections.abc import Callable, Iterator, Sequence
-from typing import Any, Literal
+from typing import Any
 
 import py_trees
 from pydantic.fields import FieldInfo
 from pydantic_core import PydanticUndefined
 
+from baobab.missions.btcpp_limits import check_expressible
+from baobab.missions.btcpp_ports import (
+    MSEC_TYPE,
+    SUBTREE_PORT_TYPES,
+    SubtreePorts,
+    call_ports,
+    escape,
+    final_text,
+    port_text,
+    port_type,
+    references,
+    substitute,
+    subtree_ports,
+)
 from baobab.missions.compiler import CompiledMission
 from baobab.missions.loader import Mission
-from baobab.missions.poses import Pose
 from baobab.missions.registry import BehaviourType, NodeKind, Registry, default_registry
-from baobab.missions.tree_parser import Node
+from baobab.missions.tree_parser import Node, NodeShape
 
-_PLACEHOLDER = re.compile(r"\$\{([A-Za-z_][A-Za-z0-9_]*)\}")
+Render = Callable[[Any, bool], str]
+"""A port's text from its value (in the template space of where the node is) and whether it
+is a duration BT.CPP takes in ms."""
 _CATEGORY = {
     NodeKind.ACTION: "Action",
     NodeKind.CONDITION: "Condition",
@@ -55,72 +68,56 @@ def to_dot(compiled: CompiledMission) -> str:
     return str(py_trees.display.dot_tree(compiled.root).to_string())
 
 
-def _text(value: Any) -> str:
-    """A port value as BehaviorTree.CPP reads it.
-
-    ``${param}`` becomes the blackboard reference ``{param}``; a list of plain values is
-    BT.CPP's ``a;b;c``; anything holding a mapping (a pose written as ``{x: 1, y: 2}``) is
-    ``json:...``, BT.CPP 4's prefix for structured values, so that it is never mistaken for
-    a blackboard reference (a value in braces).
-    """
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, str):
-        return _PLACEHOLDER.sub(r"{\1}", value)
-    if isinstance(value, int | float):
-        return f"{value:g}" if isinstance(value, float) else str(value)
-    if isinstance(value, Pose):
-        return _text(value.location or {"position": list(value.position)})
-    if isinstance(value, list | tuple) and all(
-        isinstance(item, str | int | float) for item in value
-    ):
-        return ";".join(_text(item) for item in value)
-    text = json.dumps(value, separators=(", ", ": "), default=str)
-    return "json:" + _PLACEHOLDER.sub(r"{\1}", text)
+def _literal(value: Any, in_msec: bool) -> str:
+    """The port text of a value of the main tree or of a subtree instance (no references)."""
+    return final_text(escape(value), in_msec)
 
 
-def _msec(seconds: Any) -> str:
-    if isinstance(seconds, int | float) and not isinstance(seconds, bool):
-        return str(round(seconds * 1000))
-    return _text(seconds)
+Builtin = Callable[[dict[str, Any], Render], tuple[str, dict[str, str]]]
 
 
-def _memory_tag(
-    memory_tag: str, reactive_tag: str
-) -> Callable[[dict[str, Any]], tuple[str, dict[str, str]]]:
-    def build(raw: dict[str, Any]) -> tuple[str, dict[str, str]]:
+def _memory_tag(memory_tag: str, reactive_tag: str) -> Builtin:
+    def build(raw: dict[str, Any], render: Render) -> tuple[str, dict[str, str]]:
         return (reactive_tag if raw.get("memory", True) is False else memory_tag), {}
 
     return build
 
 
-def _parallel(raw: dict[str, Any]) -> tuple[str, dict[str, str]]:
+def _parallel(raw: dict[str, Any], render: Render) -> tuple[str, dict[str, str]]:
     count = "1" if raw.get("policy") == "success_on_one" else "-1"
     return "Parallel", {"success_count": count, "failure_count": "1"}
 
 
-def _fixed(tag: str, **ports: str) -> Callable[[dict[str, Any]], tuple[str, dict[str, str]]]:
-    def build(raw: dict[str, Any]) -> tuple[str, dict[str, str]]:
-        return tag, {name: _text(raw.get(key, "")) for name, key in ports.items()}
+def _fixed(tag: str, **ports: str) -> Builtin:
+    def build(raw: dict[str, Any], render: Render) -> tuple[str, dict[str, str]]:
+        return tag, {name: render(raw.get(key, ""), False) for name, key in ports.items()}
 
     return build
 
 
-BUILTINS: dict[str, Callable[[dict[str, Any]], tuple[str, dict[str, str]]]] = {
+def _in_msec(tag: str) -> Builtin:
+    def build(raw: dict[str, Any], render: Render) -> tuple[str, dict[str, str]]:
+        return tag, {"msec": render(raw.get("duration"), True)}
+
+    return build
+
+
+BUILTINS: dict[str, Builtin] = {
     "sequence": _memory_tag("Sequence", "ReactiveSequence"),
     "selector": _memory_tag("Fallback", "ReactiveFallback"),
     "parallel": _parallel,
     "retry": _fixed("RetryUntilSuccessful", num_attempts="num_failures"),
     "repeat": _fixed("Repeat", num_cycles="num_success"),
-    "timeout": lambda raw: ("Timeout", {"msec": _msec(raw.get("duration"))}),
+    "timeout": _in_msec("Timeout"),
     "invert": _fixed("Inverter"),
     "force_success": _fixed("ForceSuccess"),
     "force_failure": _fixed("ForceFailure"),
-    "wait": lambda raw: ("Sleep", {"msec": _msec(raw.get("duration"))}),
+    "wait": _in_msec("Sleep"),
     "always_success": _fixed("AlwaysSuccess"),
     "always_failure": _fixed("AlwaysFailure"),
 }
-"""baobab node types that BehaviorTree.CPP has built in: type -> (tag, attributes)."""
+"""baobab node types that BehaviorTree.CPP has built in: type -> builder of (tag, port
+attributes) from the node's parameters and how its values are rendered."""
 
 BUILTIN_MODELS: dict[str, tuple[str, tuple[tuple[str, str, str | None], ...]]] = {
     "Sequence": ("Control", ()),
@@ -130,38 +127,35 @@ BUILTIN_MODELS: dict[str, tuple[str, tuple[tuple[str, str, str | None], ...]]] =
     "Parallel": ("Control", (("success_count", "int", "-1"), ("failure_count", "int", "1"))),
     "RetryUntilSuccessful": ("Decorator", (("num_attempts", "int", None),)),
     "Repeat": ("Decorator", (("num_cycles", "int", None),)),
-    "Timeout": ("Decorator", (("msec", "unsigned int", None),)),
+    "Timeout": ("Decorator", (("msec", MSEC_TYPE, None),)),
     "Inverter": ("Decorator", ()),
     "ForceSuccess": ("Decorator", ()),
     "ForceFailure": ("Decorator", ()),
-    "Sleep": ("Action", (("msec", "unsigned int", None),)),
+    "Sleep": ("Action", (("msec", MSEC_TYPE, None),)),
     "AlwaysSuccess": ("Action", ()),
     "AlwaysFailure": ("Action", ()),
 }
 """The BehaviorTree.CPP 4 built-ins :data:`BUILTINS` maps to: tag -> (category, ports as
 (name, type, default)), as ``WriteTreeToXML(..., add_builtin_models=true)`` lists them."""
 
-SUBTREE_PORT_TYPES = {
-    "int": "int",
-    "float": "double",
-    "str": "std::string",
-    "bool": "bool",
-    "pose": "Pose",
-}
-"""Mission parameter types -> the port types BehaviorTree.CPP writes."""
-
 
 def to_btcpp(mission: Mission, registry: Registry | None = None) -> str:
-    """The mission as BehaviorTree.CPP v4 XML with a ``TreeNodesModel`` (opens in Groot2)."""
+    """The mission as BehaviorTree.CPP v4 XML with a ``TreeNodesModel`` (opens in Groot2).
+
+    Raises:
+        MissionError: the tree cannot be expressed in BT.CPP (located at the cause).
+    """
     registry = registry or default_registry()
+    check_expressible(mission, registry)
+    ports = subtree_ports(mission, registry)
     root = ET.Element("root", {"BTCPP_format": "4", "main_tree_to_execute": mission.name})
-    used: dict[str, BehaviourType] = {}
+    emitter = _Emitter(registry, ports)
     main = ET.SubElement(root, "BehaviorTree", {"ID": mission.name})
-    _emit(main, mission.tree, registry, used, label=lambda node: node.label)
+    emitter.emit(main, mission.tree, _literal, label=lambda node: node.label)
     for name, shape in mission.subtree_shapes.items():
         tree = ET.SubElement(root, "BehaviorTree", {"ID": name})
-        _emit(tree, shape, registry, used, label=lambda node: node.raw.get("name"))
-    _tree_nodes_model(root, mission, registry, used, builtin_tags=())
+        emitter.emit(tree, shape, ports[name].value, label=lambda node: node.raw.get("name"))
+    _tree_nodes_model(root, ports, registry, emitter.used, builtin_tags=())
     ET.indent(root)
     return ET.tostring(root, encoding="unicode") + "\n"
 
@@ -169,15 +163,16 @@ def to_btcpp(mission: Mission, registry: Registry | None = None) -> str:
 def to_btcpp_log(mission: Mission, registry: Registry | None = None) -> str:
     """The expanded tree as ``FileLogger2`` writes it into a ``.btlog`` (see the module doc).
 
-    Node ``k`` in :func:`preorder` of the compiled mission carries ``_uid="k + 1"``.
+    Node ``k`` in :func:`preorder` of the compiled mission carries ``_uid="k + 1"``. The log is
+    for viewing, so the checks of :func:`to_btcpp` are not made.
     """
     registry = registry or default_registry()
+    ports = subtree_ports(mission, registry)
     root = ET.Element("root", {"BTCPP_format": "4", "main_tree_to_execute": mission.name})
     main = ET.SubElement(root, "BehaviorTree", {"ID": mission.name, "_fullpath": ""})
-    used: dict[str, BehaviourType] = {}
-    tags: set[str] = set()
-    _emit_instance(root, main, mission.tree, used, tags, itertools.count(1), prefix="")
-    _tree_nodes_model(root, mission, registry, used, builtin_tags=sorted(tags))
+    emitter = _Emitter(registry, ports)
+    emitter.emit_instance(root, main, mission.tree, itertools.count(1), prefix="")
+    _tree_nodes_model(root, ports, registry, emitter.used, sorted(emitter.builtin_tags))
     ET.indent(root)
     return ET.tostring(root, encoding="unicode") + "\n"
 
@@ -193,19 +188,100 @@ def preorder(node: py_trees.behaviour.Behaviour) -> Iterator[py_trees.behaviour.
         yield from preorder(child)
 
 
+class _Emitter:
+    """Writes tree elements, noting the node types and built-in tags it used."""
+
+    def __init__(self, registry: Registry, ports: dict[str, SubtreePorts]) -> None:
+        self.registry = registry
+        self.ports = ports
+        self.used: dict[str, BehaviourType] = {}
+        self.builtin_tags: set[str] = set()
+
+    def emit(
+        self,
+        parent: ET.Element,
+        node: Node | NodeShape,
+        render: Render,
+        label: Callable[[Any], str | None],
+    ) -> None:
+        """Emit ``node`` (of the main tree or a subtree body) and everything below it."""
+        behaviour = self._behaviour(node.type)
+        if behaviour.kind is NodeKind.SUBTREE:
+            args = node.raw.get("args", {})
+            in_scope = escape(args) if isinstance(node, Node) else args
+            ET.SubElement(parent, "SubTree", self._call(node.raw["name"], in_scope, render))
+            return
+        tag, attributes = self._tag_and_ports(behaviour, node.raw, render)
+        name = label(node)
+        element = ET.SubElement(parent, tag, {**({"name": name} if name else {}), **attributes})
+        children: Sequence[Node | NodeShape] = node.children
+        for child in children:
+            self.emit(element, child, render, label)
+
+    def emit_instance(
+        self, root: ET.Element, parent: ET.Element, node: Node, uids: Iterator[int], prefix: str
+    ) -> None:
+        """Emit ``node`` of the expanded tree with ``_uid``/``_fullpath``, subtrees as instances."""
+        behaviour = self._behaviour(node.type)
+        uid = str(next(uids))
+        if behaviour.kind is NodeKind.SUBTREE:
+            tree_id = str(node.raw["name"])
+            path = f"{prefix}{tree_id}::{uid}"
+            attributes = self._call(tree_id, escape(node.raw.get("args", {})), _literal)
+            ET.SubElement(parent, "SubTree", {**attributes, "_fullpath": path, "_uid": uid})
+            instance = ET.SubElement(root, "BehaviorTree", {"ID": tree_id, "_fullpath": path})
+            for child in node.children:
+                self.emit_instance(root, instance, child, uids, f"{path}/")
+            return
+        tag, attributes = self._tag_and_ports(behaviour, node.raw, _literal)
+        if behaviour.name in BUILTINS:
+            self.builtin_tags.add(tag)
+        label = node.label
+        element = ET.SubElement(
+            parent, tag, {"name": label, **attributes, "_fullpath": prefix + label, "_uid": uid}
+        )
+        for child in node.children:
+            self.emit_instance(root, element, child, uids, prefix)
+
+    def _behaviour(self, type_name: str) -> BehaviourType:
+        behaviour = self.registry.get(type_name)
+        if behaviour is None:  # cannot happen for a loaded mission
+            raise KeyError(type_name)
+        self.used[behaviour.name] = behaviour
+        return behaviour
+
+    def _call(self, name: Any, args: dict[str, Any], render: Render) -> dict[str, str]:
+        """The attributes of a ``<SubTree>`` element: its ID and the ports the call sets."""
+        attributes = {"ID": str(name)}
+        for key, value, in_msec in call_ports(self.ports[str(name)], args):
+            attributes[key] = render(value, in_msec)
+        return attributes
+
+    @staticmethod
+    def _tag_and_ports(
+        behaviour: BehaviourType, raw: dict[str, Any], render: Render
+    ) -> tuple[str, dict[str, str]]:
+        """The XML tag of a (non-subtree) node and its port attributes."""
+        builtin = BUILTINS.get(behaviour.name)
+        if builtin is not None:
+            return builtin(raw, render)
+        ports = {key: render(value, False) for key, value in raw.items() if key != "name"}
+        return behaviour.xml_id, ports
+
+
 def _tree_nodes_model(
     root: ET.Element,
-    mission: Mission,
+    ports: dict[str, SubtreePorts],
     registry: Registry,
     used: dict[str, BehaviourType],
     builtin_tags: Sequence[str],
 ) -> None:
     model = ET.SubElement(root, "TreeNodesModel")
     for tag in builtin_tags:
-        category, ports = BUILTIN_MODELS[tag]
+        category, builtin_ports = BUILTIN_MODELS[tag]
         entry = ET.SubElement(model, category, {"ID": tag})
-        for name, port_type, default in ports:
-            attributes = {"name": name, "type": port_type}
+        for name, type_name, default in builtin_ports:
+            attributes = {"name": name, "type": type_name}
             if default is not None:
                 attributes["default"] = default
             ET.SubElement(entry, "input_port", attributes)
@@ -213,85 +289,29 @@ def _tree_nodes_model(
         custom = behaviour.name not in BUILTINS and behaviour.kind is not NodeKind.SUBTREE
         if behaviour.name in used and custom:
             _model_entry(model, behaviour)
-    for name, spec in mission.subtrees.items():
-        entry = ET.SubElement(model, "SubTree", {"ID": name})
-        for key, param in spec.params.items():
-            attributes = {"name": key, "type": SUBTREE_PORT_TYPES.get(param.type, "any")}
-            if param.default is not None:
-                attributes["default"] = _text(param.default)
-            ET.SubElement(entry, "input_port", attributes).text = param.description or None
+    for name, subtree in ports.items():
+        _subtree_model_entry(ET.SubElement(model, "SubTree", {"ID": name}), subtree)
 
 
-def _emit(
-    parent: ET.Element,
-    node: Any,
-    registry: Registry,
-    used: dict[str, BehaviourType],
-    label: Callable[[Any], str | None],
-) -> None:
-    behaviour = registry.get(node.type)
-    if behaviour is None:  # cannot happen for a loaded mission
-        raise KeyError(node.type)
-    used[behaviour.name] = behaviour
-    if behaviour.kind is NodeKind.SUBTREE:
-        args = node.raw.get("args", {})
-        attributes = {"ID": str(node.raw["name"])}
-        attributes.update({key: _text(value) for key, value in args.items()})
-        ET.SubElement(parent, "SubTree", attributes)
-        return
-    tag, attributes = _tag_and_ports(behaviour, node.raw)
-    name = label(node)
-    element = ET.SubElement(parent, tag, {**({"name": name} if name else {}), **attributes})
-    children: Sequence[Any] = node.children
-    for child in children:
-        _emit(element, child, registry, used, label)
-
-
-def _tag_and_ports(behaviour: BehaviourType, raw: dict[str, Any]) -> tuple[str, dict[str, str]]:
-    """The XML tag of a (non-subtree) node and its port attributes."""
-    builtin = BUILTINS.get(behaviour.name)
-    if builtin is not None:
-        return builtin(raw)
-    return behaviour.xml_id, {key: _text(value) for key, value in raw.items() if key != "name"}
-
-
-def _emit_instance(
-    root: ET.Element,
-    parent: ET.Element,
-    node: Node,
-    used: dict[str, BehaviourType],
-    builtin_tags: set[str],
-    uids: Iterator[int],
-    prefix: str,
-) -> None:
-    """Emit ``node`` of the expanded tree with ``_uid``/``_fullpath``, subtrees as instances."""
-    behaviour = node.behaviour
-    uid = str(next(uids))
-    if behaviour.kind is NodeKind.SUBTREE:
-        tree_id = str(node.raw["name"])
-        path = f"{prefix}{tree_id}::{uid}"
-        args = {key: _text(value) for key, value in node.raw.get("args", {}).items()}
-        ET.SubElement(parent, "SubTree", {"ID": tree_id, **args, "_fullpath": path, "_uid": uid})
-        instance = ET.SubElement(root, "BehaviorTree", {"ID": tree_id, "_fullpath": path})
-        for child in node.children:
-            _emit_instance(root, instance, child, used, builtin_tags, uids, f"{path}/")
-        return
-    used[behaviour.name] = behaviour
-    tag, attributes = _tag_and_ports(behaviour, node.raw)
-    if behaviour.name in BUILTINS:
-        builtin_tags.add(tag)
-    label = node.label
-    element = ET.SubElement(
-        parent, tag, {"name": label, **attributes, "_fullpath": prefix + label, "_uid": uid}
-    )
-    for child in node.children:
-        _emit_instance(root, element, child, used, builtin_tags, uids, prefix)
+def _subtree_model_entry(entry: ET.Element, subtree: SubtreePorts) -> None:
+    """A subtree's ports: its parameters, then its derived ports (with their defaults)."""
+    for key, param in subtree.params.items():
+        attributes = {"name": key, "type": SUBTREE_PORT_TYPES.get(param.type, "any")}
+        if param.default is not None:
+            attributes["default"] = port_text(param.default)
+        ET.SubElement(entry, "input_port", attributes).text = param.description or None
+    defaults = subtree.defaults()
+    for port in subtree.derived.values():
+        attributes = {"name": port.key, "type": port.port_type}
+        if set(references(port.template)) <= set(defaults):
+            attributes["default"] = final_text(substitute(port.template, defaults), port.in_msec)
+        ET.SubElement(entry, "input_port", attributes).text = port.describe()
 
 
 def _model_entry(model: ET.Element, behaviour: BehaviourType) -> None:
     entry = ET.SubElement(model, _CATEGORY[behaviour.kind], {"ID": behaviour.xml_id})
     for key, info in behaviour.ports().items():
-        attributes = {"name": key, "type": _port_type(info.annotation)}
+        attributes = {"name": key, "type": port_type(info.annotation)}
         default = _default(info)
         if default is not None:
             attributes["default"] = default
@@ -304,19 +324,4 @@ def _model_entry(model: ET.Element, behaviour: BehaviourType) -> None:
 def _default(info: FieldInfo) -> str | None:
     if info.default is PydanticUndefined or info.default is None:
         return None
-    return _text(info.default)
-
-
-def _port_type(annotation: Any) -> str:
-    origin = typing.get_origin(annotation)
-    if origin is typing.Annotated:
-        return _port_type(typing.get_args(annotation)[0])
-    if origin in (typing.Union, types.UnionType):
-        options = [arg for arg in typing.get_args(annotation) if arg is not type(None)]
-        return _port_type(options[0]) if len(options) == 1 else "any"
-    if origin is Literal:
-        return "std::string"
-    if origin in (list, tuple):
-        return "vector"
-    names = {bool: "bool", int: "int", float: "double", str: "std::string", Pose: "Pose"}
-    return names.get(annotation, "any")
+    return port_text(info.default)

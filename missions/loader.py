@@ -2,8 +2,8 @@
 
 Order of work (each step's errors come before the next step's):
 
-1. the located YAML loader (syntax, duplicate keys, aliases, nesting, size, NaN), the
-   ``# yaml-language-server: $schema=...`` header, unknown top-level keys;
+1. the located YAML loader (syntax, duplicate keys, aliases, nesting, size, NaN), unknown
+   top-level keys (a ``# yaml-language-server: $schema=...`` comment is optional, for editors);
 2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
    timeout and expect (and a refusal of ``${`` anywhere else);
 3. the top-level model (types, events, expectations);
@@ -44,11 +44,13 @@ from baobab.missions.schema import (
     SubtreeSpec,
 )
 from baobab.missions.tree_parser import Node, NodeShape, TreeParser
+from baobab.sim.input_files import file_kind_problem
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
-from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml
+from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml, read_yaml_text
 
 SCHEMA_HEADER = "# yaml-language-server: $schema="
-"""Every mission file begins with this comment, followed by the schema's location."""
+"""The editor comment that bundled and generated missions begin with, before the schema's
+location; optional in a mission file."""
 _PARAMS = TypeAdapter(dict[ParamName, ParamSpec])
 
 
@@ -117,9 +119,9 @@ def load_mission(
         WorldError: a problem inside the world file the mission names.
     """
     mission_path = Path(path)
-    document = load_located_yaml(mission_path, MissionError, text=text)
     if text is None:
-        text = mission_path.read_text(encoding="utf-8")
+        text = read_yaml_text(mission_path, MissionError)
+    document = load_located_yaml(mission_path, MissionError, text=text)
     return _Loader(mission_path, document, text, registry or default_registry()).load(
         overrides or {}
     )
@@ -200,15 +202,6 @@ class _Loader:
         )
 
     def _top_level(self) -> dict[str, Any]:
-        first_line = self.text.lstrip("\ufeff").split("\n", 1)[0].strip()
-        if not first_line.startswith(SCHEMA_HEADER) or first_line == SCHEMA_HEADER:
-            raise MissionError(
-                self.document.path,
-                1,
-                1,
-                f"a mission file begins with '{SCHEMA_HEADER}<schema>' so editors can "
-                "complete it (write the schema from 'baobab schema' next to it)",
-            )
         data = self.document.data
         if not isinstance(data, dict):
             raise self._error((), "a mission file is a mapping of top-level keys")
@@ -259,8 +252,14 @@ class _Loader:
                 f"world file '{written}' is outside the mission's folder; give a bundled world "
                 "name or a path inside the folder",
             )
-        if not resolved.is_file():
+        try:
+            problem = file_kind_problem(resolved.stat().st_mode)
+        except OSError:
+            problem = "does not exist"
+        if problem == "does not exist":
             raise self._error(("world",), f"no world file '{written}' in the mission's folder")
+        if problem is not None:
+            raise self._error(("world",), f"world file '{written}' {problem}; expected a file")
         return load_world(resolved), str(resolved)
 
     def _locations(
@@ -289,7 +288,17 @@ class _Loader:
                 )
             return None
         if written is None:
-            return world.spawn if world is not None else None
+            if world is None:
+                return None
+            spawn = Pose.from_planar(world.spawn.x, world.spawn.y, world.spawn.yaw)
+            problem = scope.free_space_problem(spawn)
+            if problem is not None:
+                raise self._error(
+                    ("world",),
+                    f"the start (world '{world.name}', spawn 'default') {problem}; give the "
+                    "mission a start: in free space",
+                )
+            return world.spawn
         try:
             pose = scope.resolve(written)
         except ValidationError as exc:

@@ -14,7 +14,7 @@ import argparse
 import math
 import sys
 
-from baobab.sim.errors import BaobabError
+from baobab.sim.errors import BaobabError, clip, one_line
 from baobab.sim.world import Pose2D, World, load_world
 
 EXIT_INVALID = 2
@@ -41,14 +41,17 @@ def configure_nav2(parser: argparse.ArgumentParser) -> None:
 
 def nav2_command(args: argparse.Namespace) -> int:
     """Check the arguments, then run the script; its exit status, or 2 for bad arguments."""
-    from baobab.nav.script_runner import run_nav2_script
+    from pathlib import Path
 
+    from baobab.nav.script_runner import check_script, run_nav2_script
+
+    check_script(Path(args.script))  # a ScriptError is located: main() prints it, exits 2
     try:
         world = load_world(args.world)  # a WorldError is located: main() prints it, exits 2
         start = parse_start(args.start, world)
         seed = parse_seed(args.seed)
     except Nav2ArgumentError as exc:
-        print(f"baobab nav2: {exc}", file=sys.stderr)
+        print(one_line(f"baobab nav2: {exc}"), file=sys.stderr)
         return EXIT_INVALID
     defaults = {"world": args.world, "start": start, "seed": seed, "realtime": args.realtime}
     return run_nav2_script(args.script, navigator_defaults=defaults)
@@ -57,10 +60,13 @@ def nav2_command(args: argparse.Namespace) -> int:
 def parse_start(text: str | None, world: World) -> Pose2D | None:
     """The pose of ``--start X,Y[,YAW]`` (m, m, rad), checked to be free in ``world``.
 
+    Without ``--start`` (None), the world's default spawn is checked instead.
+
     Raises:
         Nav2ArgumentError: not two or three finite numbers, or a pose the robot cannot stand on.
     """
     if text is None:
+        _check_free(world, world.spawn, "the default spawn")
         return None
     parts = text.split(",")
     try:
@@ -68,16 +74,20 @@ def parse_start(text: str | None, world: World) -> Pose2D | None:
     except ValueError:
         values = []
     if len(values) not in (2, 3) or not all(math.isfinite(value) for value in values):
-        raise Nav2ArgumentError(f"--start: expected X,Y,YAW (m, m, rad), got '{text}'")
+        raise Nav2ArgumentError(f"--start: expected X,Y,YAW (m, m, rad), got '{clip(text)}'")
     pose = Pose2D(x=values[0], y=values[1], yaw=values[2] if len(values) == 3 else 0.0)
+    _check_free(world, pose, "--start")
+    return pose
+
+
+def _check_free(world: World, pose: Pose2D, what: str) -> None:
     from baobab.nav.navigator_robot import NavigatorSetupError, check_free
     from baobab.robots.turtlebot3 import BURGER
 
     try:
-        check_free(world, pose, BURGER.footprint_radius, what="--start")
+        check_free(world, pose, BURGER.footprint_radius, what=what)
     except NavigatorSetupError as exc:
         raise Nav2ArgumentError(str(exc)) from None
-    return pose
 
 
 def parse_seed(text: str) -> int:
@@ -91,5 +101,5 @@ def parse_seed(text: str) -> int:
     except ValueError:
         seed = -1
     if seed < 0:
-        raise Nav2ArgumentError(f"--seed: expected a non-negative whole number, got '{text}'")
+        raise Nav2ArgumentError(f"--seed: expected a non-negative whole number, got '{clip(text)}'")
     return seed

@@ -3,15 +3,15 @@
 A run that cannot keep what it makes is refused at once (exit 2, one line naming the flag and
 the path), instead of failing after the simulation: the run folder's file system must be
 writable and have room (:data:`MIN_FREE_BYTES`), ``--record``/``--video``/``--btlog``/
-``--baseline`` must name a regular file (or a new one) in a writable folder, and ``--live``
-must be able to bind its address. Each check uses the file system's and the network's own
-answers (``statvfs``, ``access``, a test ``bind``), so nothing is written by a refusal.
+``--baseline`` must name a regular file (or a new one) in a writable folder (``--live``'s
+address is checked by :meth:`~baobab.sim.recording_sinks.LiveSink.check_address`). Each check
+uses the file system's own answers (``statvfs``, ``access``), so nothing is written by a
+refusal.
 """
 
 from __future__ import annotations
 
 import os
-import socket
 import stat
 from pathlib import Path
 
@@ -104,23 +104,3 @@ def check_output_file(flag: str, path: Path, *, create_folders: bool = False) ->
         problem = "the file is not writable"
     if problem is not None:
         raise OutputError(f"{flag} {path}: cannot write there: {problem}")
-
-
-def check_can_bind(host: str, port: int) -> None:
-    """Refuse a ``--live`` address this machine cannot serve on (unknown host, port in use).
-
-    The test socket is closed at once; port 0 (any free port) always binds.
-
-    Raises:
-        OutputError: naming the address and the reason.
-    """
-    try:
-        family, kind, protocol, _, address = socket.getaddrinfo(
-            host, port, type=socket.SOCK_STREAM
-        )[0]
-        with socket.socket(family, kind, protocol) as probe:
-            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as the server does
-            probe.bind(address)
-    except (OSError, UnicodeError) as error:
-        reason = getattr(error, "strerror", None) or str(error)
-        raise OutputError(f"--live: cannot serve on {host}:{port}: {reason}") from None

@@ -15,11 +15,12 @@ import re
 from collections.abc import Mapping
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import ConfigDict, Field, ValidationError, model_validator
 
 from baobab.missions.errors import FieldError, MissionError, located, unknown_name
 from baobab.missions.poses import parse_pose
-from baobab.sim.errors import SourceError
+from baobab.sim.errors import SourceError, clip
+from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml
 
 ParamType = Literal["int", "float", "str", "bool", "pose"]
@@ -30,7 +31,7 @@ _TRUE = {"true", "yes", "on", "1"}
 _FALSE = {"false", "no", "off", "0"}
 
 
-class ParamSpec(BaseModel):
+class ParamSpec(YamlModel):
     """One declared parameter of a mission or a subtree."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -82,19 +83,19 @@ class ParamSpec(BaseModel):
         is_number = isinstance(value, int | float) and not isinstance(value, bool)
         if self.type == "int":
             if not isinstance(value, int) or isinstance(value, bool):
-                raise ValueError(f"expected an integer, got {value!r}")
+                raise ValueError(f"expected an integer, got {_shown(value)}")
             return value
         if self.type == "float":
             if not is_number or not math.isfinite(value):
-                raise ValueError(f"expected a finite number, got {value!r}")
+                raise ValueError(f"expected a finite number, got {_shown(value)}")
             return float(value)
         if self.type == "str":
             if not isinstance(value, str):
-                raise ValueError(f"expected a string, got {value!r}")
+                raise ValueError(f"expected a string, got {_shown(value)}")
             return value
         if self.type == "bool":
             if not isinstance(value, bool):
-                raise ValueError(f"expected true or false, got {value!r}")
+                raise ValueError(f"expected true or false, got {_shown(value)}")
             return value
         if isinstance(value, str):
             return value  # a location name, resolved where the parameter is used
@@ -125,26 +126,31 @@ class ParamSpec(BaseModel):
         value: Any = text
         if self.type == "int":
             if not re.fullmatch(r"[+-]?\d+", text.strip()):
-                raise ValueError(f"expected an integer, got '{text}'")
+                raise ValueError(f"expected an integer, got '{clip(text)}'")
             value = int(text)
         elif self.type == "float":
             try:
                 value = float(text)
             except ValueError:
-                raise ValueError(f"expected a number, got '{text}'") from None
+                raise ValueError(f"expected a number, got '{clip(text)}'") from None
         elif self.type == "bool":
             word = text.strip().lower()
             if word not in _TRUE | _FALSE:
-                raise ValueError(f"expected true or false, got '{text}'")
+                raise ValueError(f"expected true or false, got '{clip(text)}'")
             value = word in _TRUE
         elif self.type == "pose":
             try:  # the file's limits (tags, depth, aliases, NaN) hold on the command line too
                 value = load_located_yaml("--set", text=text).data
             except SourceError:
                 raise ValueError(
-                    f"expected a location name or a pose mapping, got '{text}'"
+                    f"expected a location name or a pose mapping, got '{clip(text)}'"
                 ) from None
         return self.check(value)
+
+
+def _shown(value: Any) -> str:
+    """A value of the wrong type, for a message: ``true``, ``'text'``, ``[1, 2]``."""
+    return _format(value) if isinstance(value, bool) else clip(repr(value))
 
 
 def _format(value: Any) -> str:
@@ -159,7 +165,7 @@ def parse_assignment(text: str) -> tuple[str, str]:
     """Split a ``--set`` argument ``KEY=VALUE``; ValueError when it has no ``=`` or no key."""
     key, sep, value = text.partition("=")
     if not sep or not key.strip():
-        raise ValueError(f"expected KEY=VALUE, got '{text}'")
+        raise ValueError(f"expected KEY=VALUE, got '{clip(text)}'")
     return key.strip(), value
 
 
@@ -178,14 +184,16 @@ def resolve_values(
     for name in overrides:
         if name not in specs:
             message = unknown_name("parameter", name, specs)
-            raise located(document, base_path, f"--set {name}={overrides[name]}: {message}")
+            raise located(
+                document, base_path, f"--set {clip(name)}={clip(overrides[name])}: {message}"
+            )
     values: dict[str, Any] = {}
     for name, spec in specs.items():
         if name in overrides:
             try:
                 values[name] = spec.parse_text(overrides[name])
             except ValueError as exc:
-                text = f"--set {name}={overrides[name]}: {exc}"
+                text = f"--set {name}={clip(overrides[name])}: {exc}"
                 raise located(document, (*base_path, name), text) from None
         elif spec.required:
             text = f"parameter '{name}' has no default; give it with --set {name}=VALUE"
@@ -233,7 +241,7 @@ class Substitution:
 
     def _string(self, text: str, path: KeyPath) -> Any:
         if "${" in _PLACEHOLDER.sub("", text):
-            raise located(self.document, path, f"unterminated '${{' in '{text}'")
+            raise located(self.document, path, f"unterminated '${{' in '{clip(text)}'")
         whole = _PLACEHOLDER.fullmatch(text)
         if whole is not None and not whole.group(1):
             name = self._name(whole.group(2), path)

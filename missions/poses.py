@@ -17,7 +17,6 @@ from dataclasses import dataclass
 from typing import Annotated, Any
 
 from pydantic import (
-    BaseModel,
     ConfigDict,
     Field,
     GetJsonSchemaHandler,
@@ -31,6 +30,7 @@ from baobab.missions.errors import FieldError, unknown_name
 from baobab.missions.robot_catalog import RobotInfo
 from baobab.sim.point_clearance import obstacle_distances_at
 from baobab.sim.world import Pose2D, World
+from baobab.sim.yaml_models import YamlModel
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 IDENTITY_XYZW = (0.0, 0.0, 0.0, 1.0)
@@ -93,7 +93,7 @@ class Pose:
         return f"'{self.location}' {where}" if self.location else where
 
 
-class _Strict(BaseModel):
+class _Strict(YamlModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 

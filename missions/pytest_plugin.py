@@ -18,8 +18,9 @@ setup with the located ``path:line:col: message``, and the other items still run
 in-process with :func:`~baobab.missions.runner.run_mission`, compares the baseline beside the
 mission when there is one, and writes its run folder under pytest's temporary directory (or
 ``--baobab-runs DIR``). A failure prints the table of expectations, measured against
-expected, the run folder's path and the command that replays the run. The JUnit report gets
-the run folder, the trace digest and the sim time as properties of each item.
+expected, the run folder's path and the command that replays the run. In a JUnit report
+(:mod:`~baobab.missions.pytest_junit`) each mission is a testcase named by its folder and name,
+with its result, sim time, trace digest, seed, baseline and run folder in its system-out.
 """
 
 from __future__ import annotations
@@ -33,6 +34,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import pytest
+
+from baobab.missions.pytest_junit import FACTS_SECTION, MISSION_LABEL, format_facts, register
 
 if TYPE_CHECKING:
     from baobab.missions.loader import Mission
@@ -86,6 +89,12 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         default=True,
         help="collect mission files with an expect: block as tests (default true)",
     )
+
+
+@pytest.hookimpl(trylast=True)  # after pytest's junitxml plugin made its report writer
+def pytest_configure(config: pytest.Config) -> None:
+    """Name mission testcases and record their facts in a JUnit report, if one is written."""
+    register(config)
 
 
 def is_scenario_file(path: Path) -> bool:
@@ -155,13 +164,16 @@ class MissionItem(pytest.Item):
             folder=self.run_folder,
         )
         record = scenario.record
-        self.user_properties += [
-            ("run_folder", str(scenario.folder)),
-            ("trace_digest", record.trace_digest),
-            ("sim_time", f"{record.outcome.sim_time:.3f}"),
-            ("seed", str(record.seed)),
-            ("baseline", scenario.baseline_status),
-        ]
+        error = f" {record.outcome.error_name} ({record.outcome.error_code})"
+        facts = {
+            "result": record.outcome.result + (error if record.outcome.error_code else ""),
+            "sim_time": f"{record.outcome.sim_time:.3f}",
+            "trace_digest": record.trace_digest,
+            "seed": str(record.seed),
+            "baseline": scenario.baseline_status,
+            "run_folder": str(scenario.folder),
+        }
+        self.add_report_section("call", FACTS_SECTION, format_facts(facts))
         if not scenario.intended:
             raise ScenarioFailedError(scenario)
 
@@ -196,7 +208,7 @@ class MissionItem(pytest.Item):
     def reportinfo(self) -> tuple[Path, int, str]:
         """The mission file, the ``mission:`` line (0-based) and a label."""
         line, _column = self.mission.document.locate(("mission",))
-        return self.path, line - 1, f"mission {self.mission.name}"
+        return self.path, line - 1, f"{MISSION_LABEL}{self.mission.name}"
 
 
 class InvalidMissionItem(pytest.Item):
@@ -215,7 +227,7 @@ class InvalidMissionItem(pytest.Item):
 
     def reportinfo(self) -> tuple[Path, int, str]:
         """The mission file and a label."""
-        return self.path, 0, f"invalid mission {self.name}"
+        return self.path, 0, f"invalid {MISSION_LABEL}{self.name}"
 
 
 def _relative_message(error: BaseException, config: pytest.Config) -> str:

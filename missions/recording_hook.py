@@ -4,14 +4,17 @@ A :class:`RecordingHook` gathers everything that watches a run in one object, so
 knows only one callable. Built after the rig and the compiled tree, it starts what the
 :class:`RecordingOptions` ask for:
 
-- ``record`` (MCAP file) and ``live`` (Foxglove WebSocket server): one
-  :class:`~baobab.sim.recording.Recorder` with a sink for each, fed by the robot's sim
+- ``record`` (MCAP file) and ``live`` (Foxglove WebSocket server, both subprotocol names):
+  one :class:`~baobab.sim.recording.Recorder` with a sink for each, fed by the robot's sim
   callbacks (:mod:`baobab.missions.recording_streams`) and, after the tree ticks, its status
   (``/behavior_tree/status``: every node's status, whenever one changed and at least once a
   second) and once a second the running tasks' feedback (``/task/feedback``). Live runs are
-  stamped with the wall clock and paced to it.
-- ``video``: an H.264 MP4 filmed from a camera tracking the TurtleBot3, or a 3/4 view of the
-  Panda, one frame every ``1 / fps`` s of sim time.
+  stamped with the wall clock and paced to it; a client the server refuses is reported
+  through ``warn`` once per address.
+- ``video``: an H.264 MP4, one frame every ``1 / fps`` s of sim time, filmed by a chase
+  camera behind the TurtleBot3 that rises over walls so the robot shows in every frame, or
+  from a fixed 3/4 view that the Panda and its table fill; each frame says the sim time, the
+  running tasks and their goals (:mod:`baobab.missions.video_caption`).
 - ``btlog``: a Groot2 replay log (BehaviorTree.CPP ``FileLogger2``) of the tree's status
   changes; its node uids are those of :func:`~baobab.missions.export.to_btcpp_log`.
 - ``viewer``: MuJoCo's passive viewer, synced after every tick (paced to the wall clock);
@@ -26,6 +29,7 @@ unless asked: foxglove, PyAV and the renderer are imported only by runs that use
 from __future__ import annotations
 
 import math
+import queue
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -43,7 +47,7 @@ if TYPE_CHECKING:
     from baobab.missions.robots_wiring import Rig
     from baobab.sim.btlog import BtLogWriter
     from baobab.sim.recording import Recorder
-    from baobab.sim.rendering import VideoRecorder
+    from baobab.sim.rendering import Camera, VideoRecorder
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
@@ -126,6 +130,9 @@ class RecordingHook:
         self._goal_leaves = compiled.goal_leaves()
         self._recorder: Recorder | None = None
         self._live_url: str | None = None
+        self._warn = warn
+        self._live_reports: queue.SimpleQueue[str] = queue.SimpleQueue()
+        """What the live server reports from its own thread, passed to ``warn`` at each tick."""
         self._streams: Streams | None = None
         self._video: VideoRecorder | None = None
         self._btlog: BtLogWriter | None = None
@@ -163,7 +170,11 @@ class RecordingHook:
 
         options = self.options
         # The server first: a port in use then fails before the file is created.
-        live = LiveSink(options.host, options.port) if options.live else None
+        live = (
+            LiveSink(options.host, options.port, report=self._live_reports.put)
+            if options.live
+            else None
+        )
         sinks: list[Sink] = [] if live is None else [live]
         if options.record is not None:
             path = options.record
@@ -181,7 +192,7 @@ class RecordingHook:
         if isinstance(rig, MobileRig):
             self._streams = MobileStreams(recorder, rig)
         elif isinstance(rig, ArmRig):
-            self._streams = ArmStreams(recorder, rig, live=options.live)
+            self._streams = ArmStreams(recorder, rig)
 
     def _start_btlog(self, path: Path) -> None:
         from baobab.sim.btlog import BtLogWriter
@@ -192,15 +203,18 @@ class RecordingHook:
         self._btlog = BtLogWriter(path, xml, start_time_us=time.time_ns() // 1000)
 
     def _start_video(self, rig: Rig, path: Path) -> None:
-        from baobab.missions.robots_wiring import MobileRig
-        from baobab.sim.rendering import PANDA_VIEW, Camera, TrackingCamera, VideoRecorder
+        from baobab.missions.video_caption import VideoCaption
+        from baobab.sim.rendering import VideoRecorder
 
-        camera: Camera = (
-            TrackingCamera(rig.robot.names.body) if isinstance(rig, MobileRig) else PANDA_VIEW
-        )
         width, height = self.options.video_size
         self._video = VideoRecorder(
-            self.sim, path, camera, fps=self.options.fps, width=width, height=height
+            self.sim,
+            path,
+            video_camera(rig, width / height),
+            fps=self.options.fps,
+            width=width,
+            height=height,
+            caption=VideoCaption(self.compiled),
         )
 
     def _start_viewer(self, warn: Callable[[str], None]) -> None:
@@ -216,6 +230,7 @@ class RecordingHook:
         """Log the tree (and the tasks' feedback each second); sync the viewer."""
         now = self.sim.time
         self._ticks += 1
+        self._pass_live_reports()
         self._log_tree(now)
         recorder = self._recorder
         if recorder is not None and now - self._last_feedback >= FEEDBACK_PERIOD - 1e-9:
@@ -223,6 +238,14 @@ class RecordingHook:
             self._log_feedback(recorder, now)
         if self._viewer is not None:
             self._viewer.sync()
+
+    def _pass_live_reports(self) -> None:
+        """Pass what the live server reported to ``warn``, from the run's thread.
+
+        ``warn`` need not be thread-safe: a forked run sends warnings down a pipe.
+        """
+        while not self._live_reports.empty():
+            self._warn(self._live_reports.get())
 
     def _log_tree(self, now: float, *, final: bool = False) -> None:
         statuses = [node.behaviour.status for node in self._nodes]
@@ -283,6 +306,7 @@ class RecordingHook:
         for part in (self._streams, self._recorder, self._video, self._btlog, self._viewer):
             if part is not None:
                 closers.append(part.close)
+        closers.append(self._pass_live_reports)
         _run_all(closers)
 
     def outputs(self) -> dict[str, Any]:
@@ -301,6 +325,23 @@ class RecordingHook:
         if self._failures:
             outputs["stopped"] = dict(self._failures)
         return outputs
+
+
+def video_camera(rig: Rig, aspect: float) -> Camera:
+    """What films ``rig``'s run: a chase camera behind a mobile robot, the Panda's scene view.
+
+    Args:
+        rig: the robot, in its start state.
+        aspect: the video's width over its height.
+    """
+    from baobab.missions.robots_wiring import MobileRig
+    from baobab.sim.chase_camera import ChaseCamera
+
+    if isinstance(rig, MobileRig):
+        return ChaseCamera(rig.robot.names.body)
+    from baobab.robots.panda.scene import video_view
+
+    return video_view(rig.sim, aspect)
 
 
 def _tree_nodes(compiled: CompiledMission) -> list[_TreeNode]:

@@ -11,13 +11,21 @@ impedance controller publish:
   locations; republished so that a live client that joins late sees it).
 - Panda: the three ``/cartesian_impedance/*`` poses (TCP, set-point, filtered reference, in
   ``panda/link0``) and ``/joint_states`` at 100 Hz, the scene (arm, table, cube) at 20 Hz,
-  and the transform world -> panda/link0 once (every second when live).
+  and the transform world -> panda/link0 on ``/tf_static`` at 1 Hz: latched for live viewers
+  that join late, and never more than a second away for a viewer that opens the file anywhere.
+
+``/tf`` is what a perfectly localised Nav2 robot publishes: odom -> base_link is the wheel
+odometry, drift included, and map -> odom corrects it (ground truth composed with the inverse
+of the odometry), so base_link lands on the ground-truth pose where the robot model and the
+scan are drawn.
 
 This module imports foxglove (through :mod:`baobab.sim.recording`): it is imported only when a
 run records.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -28,13 +36,14 @@ from baobab.sim.lidar import LaserScan
 from baobab.sim.recording import Recorder, Topics, Trail, Transform
 from baobab.sim.scene_primitives import GeomScene, location_entities
 from baobab.sim.simulation import PeriodicHandle
+from baobab.sim.world import Pose2D
 
 MOBILE_FAST_PERIOD = 0.05
 """/tf, /robot_pose, trail and new plans (s): 20 Hz."""
 ROBOT_SCENE_PERIOD = 0.2
 """/robot/scene (s): 5 Hz."""
 SLOW_PERIOD = 1.0
-"""Costmap, followed path, world scene; the Panda's base transform when live (s): 1 Hz."""
+"""Costmap, followed path, world scene, the Panda's base transform (s): 1 Hz."""
 ARM_STATE_PERIOD = 0.01
 """Impedance poses and joint states (s): 100 Hz."""
 ARM_SCENE_PERIOD = 0.05
@@ -72,7 +81,6 @@ class MobileStreams(Streams):
         self.base = rig.robot.base
         self.trail = Trail()
         self._plan: object = None
-        self._odom: tuple[object, Transform] = (None, Transform("map", "odom", (0.0, 0.0, 0.0)))
         model = rig.sim.model
         self._world_scene = GeomScene(model, groups=WORLD_SCENE_GROUPS)
         self._robot_scene = GeomScene(model, groups=ROBOT_SCENE_GROUPS)
@@ -95,12 +103,13 @@ class MobileStreams(Streams):
 
     def _fast(self, t: float) -> None:
         base, recorder = self.base, self.recorder
-        pose = base.pose()
-        origin = base.odom_origin
-        if self._odom[0] is not origin:  # changes only when the robot is teleported
-            self._odom = (origin, Transform.planar("map", "odom", origin))
+        pose, odometry = base.pose(), base.odometry.pose
         recorder.log_transforms(
-            t, [self._odom[1], Transform.planar("odom", "base_link", base.odometry.pose)]
+            t,
+            [
+                Transform.planar("map", "odom", map_to_odom(pose, odometry)),
+                Transform.planar("odom", "base_link", odometry),
+            ],
         )
         recorder.log_planar_pose(Topics.ROBOT_POSE, t, pose)
         self.trail.add(pose)
@@ -139,10 +148,9 @@ class ArmStreams(Streams):
     Args:
         recorder: where the messages go.
         rig: the arm rig (sim and arm server).
-        live: republish the base transform every second, for clients that join late.
     """
 
-    def __init__(self, recorder: Recorder, rig: ArmRig, *, live: bool) -> None:
+    def __init__(self, recorder: Recorder, rig: ArmRig) -> None:
         from baobab.robots.panda.model import ARM_JOINTS, BASE_BODY, FINGER_JOINTS
 
         super().__init__()
@@ -164,14 +172,11 @@ class ArmStreams(Streams):
         self._handles = [
             sim.every(ARM_STATE_PERIOD, self._state, name="record arm state"),
             sim.every(ARM_SCENE_PERIOD, self._scene_update, name="record arm scene"),
+            sim.every(SLOW_PERIOD, self._base_transform, name="record tf_static"),
         ]
-        if live:
-            self._handles.append(sim.every(SLOW_PERIOD, self._base_transform, name="record tf"))
-        else:
-            self._base_transform(sim.time)
 
     def _base_transform(self, t: float) -> None:
-        self.recorder.log_transforms(t, [self._base])
+        self.recorder.log_static_transforms(t, [self._base])
 
     def _state(self, t: float) -> None:
         recorder, controller, frame = self.recorder, self.server.controller, self.base_frame
@@ -194,6 +199,21 @@ class ArmStreams(Streams):
 
     def _scene_update(self, t: float) -> None:
         self.recorder.log_scene(Topics.ARM_SCENE, t, self._scene.entities(self._data))
+
+
+def map_to_odom(truth: Pose2D, odometry: Pose2D) -> Pose2D:
+    """Where the odom frame lies in the map frame when ``odometry`` (odom frame) is at ``truth``.
+
+    The transform a perfect localisation publishes: ``truth`` composed with the inverse of
+    ``odometry`` (m, rad).
+    """
+    yaw = math.remainder(truth.yaw - odometry.yaw, math.tau)
+    cos, sin = math.cos(yaw), math.sin(yaw)
+    return Pose2D(
+        x=truth.x - (cos * odometry.x - sin * odometry.y),
+        y=truth.y - (sin * odometry.x + cos * odometry.y),
+        yaw=yaw,
+    )
 
 
 def _triple(values: np.ndarray) -> tuple[float, float, float]:

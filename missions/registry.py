@@ -15,11 +15,12 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, TypeVar
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import ConfigDict, Field
 from pydantic.fields import FieldInfo
 
 from baobab.behaviours.ports import Capabilities
 from baobab.sim.errors import BaobabError
+from baobab.sim.yaml_models import YamlModel
 
 if TYPE_CHECKING:  # factories import py_trees when they build, so validation never loads it
     import py_trees
@@ -43,7 +44,7 @@ class NodeKind(enum.Enum):
     SUBTREE = "subtree"
 
 
-class NodeParams(BaseModel):
+class NodeParams(YamlModel):
     """Base of every node's parameter model: unknown keys are refused.
 
     The models build their validators when first used, not when defined: a mission uses a

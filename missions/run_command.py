@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING, Any
 from baobab.missions.cli import EXIT_NOT_INTENDED
 from baobab.missions.interrupts import RunSignals
 from baobab.missions.loader import Mission, load_mission
-from baobab.missions.output_checks import check_can_bind, check_output_file
+from baobab.missions.output_checks import check_output_file
 from baobab.missions.recording_hook import (
     DEFAULT_FPS,
     DEFAULT_HOST,
@@ -350,8 +350,10 @@ def recording_options(args: argparse.Namespace) -> RecordingOptions:
 
     Raises:
         BaobabError: a tuning flag without the flag it tunes, a file that cannot be written
-            (:func:`~baobab.missions.output_checks.check_output_file`), a ``--btlog`` without
-            its suffix, ``--video`` without PyAV, or a ``--live`` address that cannot be bound.
+            (:func:`~baobab.missions.output_checks.check_output_file`: a missing or read-only
+            folder, a folder or a device where a file goes, a full disk), a ``--btlog``
+            without its suffix, ``--video`` without PyAV, a ``--live`` address the server
+            could not listen on.
     """
     if not args.live and (args.host is not None or args.port is not None):
         raise BaobabError("--host and --port set up --live, which is not given")
@@ -372,7 +374,9 @@ def recording_options(args: argparse.Namespace) -> RecordingOptions:
     host = DEFAULT_HOST if args.host is None else args.host
     port = DEFAULT_PORT if args.port is None else args.port
     if args.live:
-        check_can_bind(host, port)
+        from baobab.sim.recording_sinks import LiveSink
+
+        LiveSink.check_address(host, port)  # a RecordingError: exit 2 before the run
     return RecordingOptions(
         record=args.record,
         live=args.live,

@@ -14,7 +14,6 @@ the sim always advances.
 
 from __future__ import annotations
 
-import enum
 import math
 import time
 import uuid
@@ -26,6 +25,7 @@ import py_trees
 
 from baobab.behaviours.actions import GoalTaskLeaf
 from baobab.missions.compiler import CompiledMission
+from baobab.missions.error_codes import MissionErrorCode
 from baobab.missions.events import TimedEvents
 from baobab.missions.progress import ProgressSink, ProgressSnapshot
 from baobab.missions.robots_wiring import Rig
@@ -39,26 +39,6 @@ TICK_PERIOD = 0.1
 """Behaviour-tree tick period (s of sim time): 10 Hz."""
 FEEDBACK_PERIOD = 1.0
 """How often running tasks' feedback goes into the trace (s of sim time)."""
-
-
-class MissionErrorCode(enum.IntEnum):
-    """Why a mission failed when no task's own error code explains it (99xx)."""
-
-    NONE = 0
-    TREE_FAILED = 9900
-    """The tree failed at a node that is not a task (a condition, a constant, a timeout)."""
-    MISSION_TIMEOUT = 9901
-    """The mission's ``timeout`` (sim time) passed while the tree was still running."""
-    SIMULATION_ERROR = 9902
-    """The physics diverged."""
-    ROBOT_DISPLACED = 9903
-    """The robot's pose jumped farther than it can drive (teleported, kidnapped)."""
-    SENSOR_TIMEOUT = 9904
-    """No lidar scan arrived for longer than the sensor timeout."""
-    SENSOR_DEGRADED = 9905
-    """The lidar's scans stayed too noisy to trust for longer than the tolerance."""
-    WHEEL_FAULT = 9906
-    """A wheel's measured speed stayed far from its command (motor or wheel failure)."""
 
 
 @dataclass(frozen=True)

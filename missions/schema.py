@@ -11,7 +11,6 @@ from typing import Annotated, Any, Literal
 
 from pydantic import (
     AfterValidator,
-    BaseModel,
     ConfigDict,
     Discriminator,
     Field,
@@ -25,6 +24,7 @@ from baobab.missions.errors import FieldError, unknown_name
 from baobab.missions.params import PARAM_NAME_PATTERN, ParamSpec
 from baobab.missions.poses import POSE_REF_SCHEMA, POSE_SCHEMA, PlanarPose, Pose, parse_pose
 from baobab.missions.robot_catalog import ROBOTS
+from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import empty_list
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
@@ -42,7 +42,7 @@ DEFAULT_TIMEOUT = 600.0
 """Mission timeout (s of sim time) when the file gives none."""
 
 
-class _Strict(BaseModel):
+class _Strict(YamlModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
@@ -217,6 +217,8 @@ class FaultEvent(_Strict):
 
 
 EVENT_KINDS = ("cancel", "spawn_obstacle", "move_obstacle", "teleop", "fault")
+MAX_EVENTS = 1_000
+"""Most timed events in one mission."""
 
 
 def _event_kind(value: Any) -> str | None:

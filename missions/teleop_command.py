@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
+import shutil
 import sys
+import textwrap
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -185,14 +186,19 @@ def drive(
             out.flush()
 
 
-def help_line(keys: TerminalKeys, world: str) -> str:
-    """The keys, for the first line on screen."""
+def help_text(keys: TerminalKeys, world: str, width: int = 80) -> str:
+    """The keys, for the first lines on screen, wrapped at spaces to fit ``width`` columns.
+
+    Each line has at most ``width - 1`` characters, as the status line, so that no terminal
+    wraps it again (a word longer than that, such as a long world path, is cut).
+    """
     layout = keys.layout
-    return (
+    text = (
         f"baobab teleop: {world}, assisted teleop on. {layout.forward}/{layout.backward} "
         f"forward/back, {layout.left}/{layout.right} turn (or arrows; a press holds "
         f"{keys.hold_time:g} s), space stop, {keys.quit_label} quit"
     )
+    return "\n".join(textwrap.wrap(text, width=max(width - 1, 20), break_on_hyphens=False))
 
 
 def configure_teleop(parser: argparse.ArgumentParser) -> None:
@@ -228,20 +234,25 @@ def teleop_command(args: argparse.Namespace) -> int:
 
     Raises:
         WorldError: for an unknown world (the CLI prints it and exits 2).
+        NavigatorSetupError: the world's default spawn is not free for the robot (exit 2).
     """
+    world = load_world(args.world)
+    from baobab.nav.navigator_robot import check_free
+    from baobab.robots.turtlebot3 import BURGER
+
+    check_free(world, world.spawn, BURGER.footprint_radius, what="the default spawn")
     stdin = sys.stdin
     if stdin is None or not stdin.isatty():
         print("baobab teleop: needs an interactive terminal (stdin is not a TTY)", file=sys.stderr)
         return EXIT_INVALID
-    world = load_world(args.world)
     keys = TerminalKeys(layout_named(args.layout), hold_time=args.hold)
     session = TeleopSession(world, keys)
     out = sys.stdout
-    out.write(help_line(keys, world.name) + "\n\x1b[?25l")
+    width = _terminal_width()
+    out.write(help_text(keys, world.name, width) + "\n\x1b[?25l")
     out.flush()
     try:
         with RawTerminal(stdin.fileno()) as terminal:
-            width = _terminal_width(out)
             drive(session, terminal, out, width=width)
     finally:
         out.write("\x1b[?25h\n")
@@ -261,10 +272,7 @@ def _signed(value: float, digits: int = 2) -> str:
     return f"{round(value, digits) + 0.0:+.{digits}f}"
 
 
-def _terminal_width(out: TextIO) -> int:
-    """Columns of the terminal behind ``out``; 80 when it does not say."""
-    try:
-        columns = os.get_terminal_size(out.fileno()).columns
-    except (OSError, ValueError):
-        return 80
-    return columns if columns >= 40 else 80
+def _terminal_width() -> int:
+    """Columns of the terminal (``COLUMNS`` when set, else the size stdout's terminal says;
+    80 when neither says), at least 20."""
+    return max(shutil.get_terminal_size((80, 24)).columns, 20)

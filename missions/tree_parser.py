@@ -215,7 +215,9 @@ class TreeParser:
         """
         self._count += 1
         if self._count > MAX_TREE_NODES:
-            raise self._error(path, f"the expanded tree has more than {MAX_TREE_NODES} nodes")
+            raise self._error(
+                path, f"the expanded tree has more than {MAX_TREE_NODES} nodes (MAX_TREE_NODES)"
+            )
         split = self._split(raw, path)
         behaviour = split.behaviour
         type_name = behaviour.name

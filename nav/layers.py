@@ -24,8 +24,9 @@ from baobab.nav.costmap import (
 )
 from baobab.nav.raytrace_kernels import cell_thresholds, trace_scan
 from baobab.nav.window_kernels import inflation_costs, shift_grid
+from baobab.sim.errors import BaobabError
 from baobab.sim.lidar import LaserScan
-from baobab.sim.world import Box, Cylinder, World
+from baobab.sim.world import MAX_COSTMAP_CELLS, Box, Cylinder, World
 
 # Touching is not overlapping: a box whose face lies on a cell boundary leaves the next cell free.
 _TOUCH_EPS = 1e-9
@@ -43,6 +44,10 @@ def union_bounds(a: Bounds | None, b: Bounds | None) -> Bounds | None:
     return (min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3]))
 
 
+class CostmapSizeError(BaobabError):
+    """A costmap with more than :data:`~baobab.sim.world.MAX_COSTMAP_CELLS` cells."""
+
+
 class StaticLayer:
     """The world's fixed geometry rasterised once: a cell is lethal when an obstacle overlaps it.
 
@@ -55,6 +60,10 @@ class StaticLayer:
         world: the world to rasterise.
         resolution: cell side (m); Nav2's 0.05 by default.
         margin_cells: lethal cells kept around the floor.
+
+    Raises:
+        CostmapSizeError: more than ``MAX_COSTMAP_CELLS`` cells (a resolution finer than the
+            0.05 m the world was checked at).
     """
 
     def __init__(self, world: World, resolution: float = 0.05, margin_cells: int = 1) -> None:
@@ -62,8 +71,15 @@ class StaticLayer:
         self.resolution = float(resolution)
         self.origin_x = x_min - margin_cells * resolution
         self.origin_y = y_min - margin_cells * resolution
-        size_x = math.ceil(round((x_max - x_min) / resolution, 9)) + 2 * margin_cells
-        size_y = math.ceil(round((y_max - y_min) / resolution, 9)) + 2 * margin_cells
+        floor_x = math.ceil(round((x_max - x_min) / resolution, 9))
+        floor_y = math.ceil(round((y_max - y_min) / resolution, 9))
+        if floor_x * floor_y > MAX_COSTMAP_CELLS:  # a finer resolution than the world checked
+            raise CostmapSizeError(
+                f"a costmap of world '{world.name}' at {resolution:g} m would have "
+                f"{floor_x * floor_y:,} cells; the limit is {MAX_COSTMAP_CELLS:,} "
+                "(MAX_COSTMAP_CELLS)"
+            )
+        size_x, size_y = floor_x + 2 * margin_cells, floor_y + 2 * margin_cells
         self.raster = np.full((size_y, size_x), FREE_SPACE, dtype=np.uint8)
         half = resolution / 2
         centres_x = self.origin_x + (np.arange(size_x) + 0.5) * resolution

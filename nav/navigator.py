@@ -55,12 +55,15 @@ from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
 from baobab.nav.errors import (
     AssistedTeleopError,
     BackUpError,
+    ComputePathThroughPosesError,
+    ComputePathToPoseError,
     DriveOnHeadingError,
     FollowPathError,
     FollowWaypointsError,
     NavigateThroughPosesError,
     NavigateToPoseError,
     NavigationError,
+    SmoothPathError,
     SpinError,
 )
 from baobab.nav.navigator_feedback import Feedback, ResultFuture, RunningTask, feedback_message
@@ -208,6 +211,7 @@ class BasicNavigator(Node):
         self._goal: _Goal | None = None
         self._feedback_cleared = False
         self._task_error: tuple[int, str] | None = None
+        self._task_error_until_outcome = False
         self._alive = True
         self.initial_pose = msgs.PoseStamped(header=msgs.Header(frame_id="map"))
         set_sim_time_source(self._sim_seconds)
@@ -324,7 +328,7 @@ class BasicNavigator(Node):
     ) -> RunningTask | Literal[False]:
         server = self._live_server()
         self._feedback_cleared = False
-        self._task_error = None
+        self._set_task_error(None)
         try:
             handle = submit()
         except GoalRejectedError as exc:
@@ -510,11 +514,11 @@ class BasicNavigator(Node):
         self._live_server()
         goal = self._goal
         if goal is None or goal.handle is None:
-            self._task_error = (0, "Cancel task failed, goal handle is None")
+            self._set_task_error((0, "Cancel task failed, goal handle is None"))
             return
         goal.handle.cancel()
         self._feedback_cleared = True
-        self._task_error = None
+        self._set_task_error(None)
 
     cancelNav = cancelTask
 
@@ -532,14 +536,35 @@ class BasicNavigator(Node):
         return TaskResult.UNKNOWN if outcome is None else _RESULTS[outcome.status]
 
     def getTaskError(self) -> tuple[int, str]:
-        """``(error_code, error_msg)`` of the last task that did not succeed, else ``(0, '')``."""
-        if self._task_error is not None:
-            return self._task_error
+        """``(error_code, error_msg)`` of the last task or request that did not succeed, else
+        ``(0, '')``: a planning or smoothing request's sets it too, as in Nav2 Kilted."""
         goal = self._goal
         outcome = None if goal is None else goal.outcome()
-        if outcome is None or outcome.status is TaskStatus.SUCCEEDED:
+        failed = outcome is not None and outcome.status is not TaskStatus.SUCCEEDED
+        if self._task_error is not None and not (failed and self._task_error_until_outcome):
+            return self._task_error
+        if outcome is None or not failed:
             return (0, "")
         return (outcome.error_code, outcome.error_msg)
+
+    def _set_task_error(self, error: tuple[int, str] | None) -> None:
+        """What :meth:`getTaskError` returns (None: the last task's own error) until the next
+        task starts or, when set while a task runs, until that task fails (as Nav2's
+        ``setTaskError``, which the client calls again when it sees a task fail)."""
+        goal = self._goal
+        self._task_error = error
+        self._task_error_until_outcome = goal is not None and goal.outcome() is None
+
+    def _request_failed(
+        self, what: str, exc: GoalRejectedError | NavigationError, unknown: enum.IntEnum
+    ) -> None:
+        """Log a planning or smoothing request's failure and make it the task error; a
+        request refused before it reached the server has the action's UNKNOWN code."""
+        self.warn(f"{what} failed: {exc}")
+        if isinstance(exc, NavigationError):
+            self._set_task_error((int(exc.code), exc.message))
+        else:
+            self._set_task_error((int(unknown if exc.code is None else exc.code), str(exc)))
 
     @property
     def result_future(self) -> ResultFuture | None:
@@ -563,16 +588,18 @@ class BasicNavigator(Node):
     ) -> msgs.Path | None:
         """A path to ``goal`` from the robot (from ``start`` with ``use_start``); None on failure.
 
-        The running task is not disturbed. Failures are logged with their Nav2 code.
+        The running task is not disturbed. A failure is logged, and :meth:`getTaskError`
+        returns its ``ComputePathToPose`` code and message (``(0, '')`` after a success).
         """
         self.info("Getting path...")
         server = self._live_server()
+        self._set_task_error((0, ""))
         try:
-            _known_plugin("planner_id", planner_id, None)
+            _known_plugin("planner_id", planner_id, ComputePathToPoseError.INVALID_PLANNER)
             origin = goal_pose(start, "start") if use_start and start is not None else None
             path = server.compute_path(origin, goal_pose(goal))
         except (GoalRejectedError, NavigationError) as exc:
-            self.warn(f"Getting path failed: {exc}")
+            self._request_failed("Getting path", exc, ComputePathToPoseError.UNKNOWN)
             return None
         return path_message(path, self._stamp())
 
@@ -583,15 +610,18 @@ class BasicNavigator(Node):
         planner_id: str = "",
         use_start: bool = False,
     ) -> msgs.Path | None:
-        """A path through ``goals`` in order from the robot (or ``start``); None on failure."""
+        """A path through ``goals`` in order from the robot (or ``start``); None on failure
+        (its ``ComputePathThroughPoses`` code and message in :meth:`getTaskError`)."""
         self.info("Getting path through poses...")
         server = self._live_server()
+        self._set_task_error((0, ""))
         try:
-            _known_plugin("planner_id", planner_id, None)
+            _known_plugin("planner_id", planner_id, ComputePathThroughPosesError.INVALID_PLANNER)
             origin = goal_pose(start, "start") if use_start and start is not None else None
             path = server.compute_path_through_poses(origin, goal_poses(goals))
         except (GoalRejectedError, NavigationError) as exc:
-            self.warn(f"Getting path through poses failed: {exc}")
+            unknown = ComputePathThroughPosesError.UNKNOWN
+            self._request_failed("Getting path through poses", exc, unknown)
             return None
         return path_message(path, self._stamp())
 
@@ -602,16 +632,18 @@ class BasicNavigator(Node):
         max_duration: float = 2.0,
         check_for_collision: bool = False,
     ) -> msgs.Path | None:
-        """Nav2's simple smoother on ``path``; None on failure (logged with its code)."""
+        """Nav2's simple smoother on ``path``; None on failure (logged, and its ``SmoothPath``
+        code and message in :meth:`getTaskError`)."""
         self.info("Smoothing path...")
         server = self._live_server()
+        self._set_task_error((0, ""))
         try:
-            _known_plugin("smoother_id", smoother_id, None)
+            _known_plugin("smoother_id", smoother_id, SmoothPathError.INVALID_SMOOTHER)
             smoothed = server.smooth_path(
                 path_from_message(path), check_for_collisions=check_for_collision
             )
         except (GoalRejectedError, NavigationError) as exc:
-            self.warn(f"Smoothing path failed: {exc}")
+            self._request_failed("Smoothing path", exc, SmoothPathError.UNKNOWN)
             return None
         return path_message(smoothed, self._stamp())
 
@@ -656,7 +688,7 @@ class BasicNavigator(Node):
                 else LoadMapResult.RESULT_MAP_DOES_NOT_EXIST
             )
             self.error(f"Change map request failed: {exc}")
-            self._task_error = (int(code), str(exc))
+            self._set_task_error((int(code), str(exc)))
             return False
         pose = self._rig.base.pose()
         start = pose if pose_is_free(world, pose, self._rig.footprint_radius) else world.spawn

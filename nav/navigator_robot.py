@@ -13,12 +13,15 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from baobab.nav.interfaces import MobileBase, ScanSource
 from baobab.sim.errors import BaobabError
 from baobab.sim.geometry import nearest_obstacle
-from baobab.sim.simulation import Simulation
 from baobab.sim.world import Pose2D, World
+
+if TYPE_CHECKING:  # checking a pose (baobab nav2, baobab teleop) loads no physics
+    from baobab.nav.interfaces import MobileBase, ScanSource
+    from baobab.sim.simulation import Simulation
 
 ROBOT_MODELS = ("turtlebot3",)
 """The robot names a navigator accepts."""

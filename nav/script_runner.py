@@ -35,6 +35,7 @@ from typing import Any
 from baobab.nav.defaults import use_navigator_defaults
 from baobab.nav.ros import ros_shims
 from baobab.sim.errors import SourceError
+from baobab.sim.input_files import read_input_file
 
 EXIT_OK = 0
 EXIT_FAILED = 1
@@ -80,20 +81,12 @@ def check_script(path: Path) -> CodeType:
     """Read and compile the script at ``path`` without running it.
 
     Raises:
-        ScriptError: the file cannot be read, or holds a syntax error (located where Python
-            locates it).
+        ScriptError: the file cannot be read (or is not a regular file, or is over
+            :data:`~baobab.sim.input_files.MAX_INPUT_BYTES`), or holds a syntax error (located
+            where Python locates it).
     """
     shown = str(path)
-    try:
-        if path.is_dir():
-            raise ScriptError(shown, 1, 1, "is a directory; expected a Python script")
-        source = path.read_bytes()
-    except FileNotFoundError:
-        raise ScriptError(shown, 1, 1, "no such file") from None
-    except PermissionError:
-        raise ScriptError(shown, 1, 1, "permission denied") from None
-    except OSError as exc:
-        raise ScriptError(shown, 1, 1, f"cannot read: {exc.strerror}") from None
+    source = read_input_file(path, ScriptError, expected="a Python script")
     try:
         return compile(source, shown, "exec", dont_inherit=True)
     except SyntaxError as exc:

@@ -8,14 +8,17 @@ Layout (all little-endian, as ``bt_file_logger_v2.cpp`` writes it)::
 
 The tree XML is BehaviorTree.CPP v4 XML whose nodes carry ``_uid`` attributes (depth-first
 pre-order from 1, continuing through subtrees) and ``_fullpath``, plus a ``<TreeNodesModel>``.
-This module does not build that XML: the tree exporter does; it writes the file around it.
+This module does not build that XML: the tree exporter does; it writes the file around it, and
+reads the tree's shape from it to order the records of one instant as a tick makes them.
 """
 
 from __future__ import annotations
 
 import enum
+import itertools
 import math
 import struct
+import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 from pathlib import Path
 from typing import BinaryIO
@@ -57,13 +60,18 @@ class BtLogWriter(Closable):
             is written at ``start_time_us + t * 1e6``.
 
     Raises:
-        RecordingError: for another suffix or a file that cannot be opened.
+        RecordingError: for another suffix, tree XML that does not parse, or a file that
+            cannot be opened.
     """
 
     def __init__(self, path: str | Path, tree_xml: str, *, start_time_us: int = 0) -> None:
         self.path = Path(path)
         if self.path.suffix != ".btlog":
             raise RecordingError(f"{self.path}: a Groot2 log needs the suffix .btlog")
+        try:
+            self._places = tick_places(tree_xml)
+        except ET.ParseError as error:
+            raise RecordingError(f"{self.path}: the tree XML does not parse: {error}") from error
         try:
             self._file: BinaryIO | None = self.path.open("wb")
         except OSError as error:
@@ -93,17 +101,64 @@ class BtLogWriter(Closable):
         """Record every node whose status changed since the last call; returns how many.
 
         Call it after each tree tick with the status of every node (uid -> status); nodes
-        never seen before count as changed unless they are IDLE.
+        never seen before count as changed unless they are IDLE. The records of one call come
+        in the order BehaviorTree.CPP's ``FileLogger2`` writes them during a tick: a node that
+        starts RUNNING before everything below it (a control node is RUNNING before it ticks
+        its children), any other change after everything below it (a child finishes, or is
+        halted, before its parent does); siblings in tick order.
         """
-        changed = 0
-        for uid, status in statuses.items():
-            if self._statuses.get(uid, BtStatus.IDLE) != status:
-                self.transition(t, uid, status)
-                changed += 1
-        return changed
+        changes = [
+            (uid, status)
+            for uid, status in statuses.items()
+            if self._statuses.get(uid, BtStatus.IDLE) != status
+        ]
+        changes.sort(key=lambda change: self._place(*change))
+        for uid, status in changes:
+            self.transition(t, uid, status)
+        return len(changes)
+
+    def _place(self, uid: int, status: BtStatus) -> tuple[float, int]:
+        """Sort key of a change at one instant; nodes not in the tree XML come last."""
+        entered, left = self._places.get(uid, (math.inf, math.inf))
+        return (entered if status == BtStatus.RUNNING else left), uid
 
     def close(self) -> None:
         """Finish the file (idempotent)."""
         if self._file is not None:
             self._file.close()
             self._file = None
+
+
+def tick_places(tree_xml: str) -> dict[int, tuple[float, float]]:
+    """Each node's place in a tick: uid -> (when it is entered, when it is left).
+
+    Both count steps of one depth-first walk of the tree XML from the main tree, into each
+    ``<SubTree>`` instance (the ``<BehaviorTree>`` with the same ``_fullpath``), so a node is
+    entered before and left after every node below it.
+
+    Raises:
+        xml.etree.ElementTree.ParseError: ``tree_xml`` is not XML.
+    """
+    root = ET.fromstring(tree_xml)
+    trees = root.findall("BehaviorTree")
+    instances = {tree.get("_fullpath"): tree for tree in trees}
+    main_id = root.get("main_tree_to_execute")
+    main = next((tree for tree in trees if tree.get("ID") == main_id), trees[0] if trees else root)
+    places: dict[int, tuple[float, float]] = {}
+    steps = itertools.count()
+
+    def walk(element: ET.Element) -> None:
+        for child in element:
+            entered = next(steps)
+            if child.tag == "SubTree":
+                instance = instances.get(child.get("_fullpath"))
+                if instance is not None:
+                    walk(instance)
+            else:
+                walk(child)
+            uid = child.get("_uid")
+            if uid is not None and uid.isdigit():
+                places[int(uid)] = (entered, next(steps))
+
+    walk(main)
+    return places

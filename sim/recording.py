@@ -11,6 +11,9 @@ may feed both at once.
 Channels are created on first use of a topic, so a file holds only the topics a run produced.
 Message log times are ``time_origin_ns + round(t * 1e9)`` for sim time ``t``; they must not go
 backwards on a topic (:class:`RecordingError` otherwise), which keeps every channel in time order.
+
+Static transforms (``/tf_static``) are latched, as ROS latches them: a live viewer that
+subscribes late is sent the latest ones with the next message logged.
 """
 
 from __future__ import annotations
@@ -25,12 +28,12 @@ import foxglove
 import numpy as np
 from foxglove import channels as fc
 from foxglove import messages as fm
-from scipy.spatial.transform import Rotation
 
+from baobab.sim import foxglove_messages as convert
 from baobab.sim.closable import Closable
 from baobab.sim.lidar import LaserScan
 from baobab.sim.recording_sinks import LiveSink, McapSink, RecordingError, Sink
-from baobab.sim.scene_primitives import IDENTITY, Entity, Quaternion, Rgba, Vector3, yaw_quaternion
+from baobab.sim.scene_primitives import IDENTITY, Entity, Quaternion, Vector3, yaw_quaternion
 from baobab.sim.world import Pose2D
 
 __all__ = [
@@ -53,6 +56,8 @@ class Topics:
     """The topic names baobab records under (Nav2 / ROS conventions where they exist)."""
 
     TF = "/tf"
+    TF_STATIC = "/tf_static"
+    """Transforms that never change (ROS's latched ``/tf_static``)."""
     SCAN = "/scan"
     ROBOT_POSE = "/robot_pose"
     PLAN = "/plan"
@@ -144,6 +149,8 @@ class Recorder(Closable):
         self._context = foxglove.Context()
         self._channels: dict[str, tuple[type, Any]] = {}
         self._last_ns: dict[str, int] = {}
+        self._latched: dict[str, tuple[Any, int]] = {}
+        """Topic -> its latest message and log time, resent to viewers that subscribe late."""
         self._now_ns = -1
         self._sinks: list[Sink] = []
         try:
@@ -175,20 +182,23 @@ class Recorder(Closable):
     ) -> None:
         """Log transforms stamped ``t`` (s), e.g. map -> odom -> base_link, as one message."""
         ns = self._stamp(topic, t)
-        stamp = _timestamp(ns)
-        message = fm.FrameTransforms(
-            transforms=[
-                fm.FrameTransform(
-                    timestamp=stamp,
-                    parent_frame_id=tf.parent,
-                    child_frame_id=tf.child,
-                    translation=_vector3(tf.translation),
-                    rotation=_quaternion(tf.rotation),
-                )
-                for tf in transforms
-            ]
-        )
+        message = _frame_transforms(transforms, convert.timestamp(ns))
         self._channel(topic, fc.FrameTransformsChannel).log(message, log_time=ns)
+
+    def log_static_transforms(
+        self, t: float, transforms: Sequence[Transform], *, topic: str = Topics.TF_STATIC
+    ) -> None:
+        """Log transforms that never change, stamped ``t`` (s), and latch them.
+
+        A live viewer that subscribes to ``topic`` later is sent this message again (same
+        stamp and log time) with the next message logged on any topic. A file holds only what
+        is logged: republish periodically so that a viewer that opens it at any time, or reads
+        only part of it, finds the transforms.
+        """
+        ns = self._stamp(topic, t)
+        message = _frame_transforms(transforms, convert.timestamp(ns))
+        self._channel(topic, fc.FrameTransformsChannel).log(message, log_time=ns)
+        self._latched[topic] = (message, ns)
 
     def log_pose(
         self,
@@ -202,7 +212,9 @@ class Recorder(Closable):
         """Log a pose (position m, quaternion x, y, z, w) in ``frame_id`` as PoseInFrame."""
         ns = self._stamp(topic, t)
         message = fm.PoseInFrame(
-            timestamp=_timestamp(ns), frame_id=frame_id, pose=_pose(position, orientation)
+            timestamp=convert.timestamp(ns),
+            frame_id=frame_id,
+            pose=convert.pose(position, orientation),
         )
         self._channel(topic, fc.PoseInFrameChannel).log(message, log_time=ns)
 
@@ -225,11 +237,13 @@ class Recorder(Closable):
         poses = np.asarray(poses, dtype=float).reshape(-1, 3)
         ns = self._stamp(topic, t)
         message = fm.PosesInFrame(
-            timestamp=_timestamp(ns),
+            timestamp=convert.timestamp(ns),
             frame_id=frame_id,
             poses=[
-                _pose((x, y, z), quaternion)
-                for (x, y, _), quaternion in zip(poses, _yaw_quaternions(poses[:, 2]), strict=True)
+                convert.pose((x, y, z), quaternion)
+                for (x, y, _), quaternion in zip(
+                    poses, convert.yaw_quaternions(poses[:, 2]), strict=True
+                )
             ],
         )
         self._channel(topic, fc.PosesInFrameChannel).log(message, log_time=ns)
@@ -245,9 +259,9 @@ class Recorder(Closable):
         ns = self._stamp(topic, scan.stamp)
         sensor = scan.sensor_pose
         message = fm.LaserScan(
-            timestamp=_timestamp(ns),
+            timestamp=convert.timestamp(ns),
             frame_id=frame_id,
-            pose=_pose((sensor.x, sensor.y, z), yaw_quaternion(sensor.yaw)),
+            pose=convert.pose((sensor.x, sensor.y, z), yaw_quaternion(sensor.yaw)),
             start_angle=scan.angle_min,
             end_angle=scan.angle_max,
             ranges=[float(r) for r in scan.ranges],
@@ -281,9 +295,9 @@ class Recorder(Closable):
             raise ValueError(f"a grid must be a 2D uint8 array, got {grid.dtype} {grid.shape}")
         ns = self._stamp(topic, t)
         message = fm.Grid(
-            timestamp=_timestamp(ns),
+            timestamp=convert.timestamp(ns),
             frame_id=frame_id,
-            pose=_pose((origin[0], origin[1], 0.0), IDENTITY),
+            pose=convert.pose((origin[0], origin[1], 0.0), IDENTITY),
             column_count=grid.shape[1],
             cell_size=fm.Vector2(x=resolution, y=resolution),
             row_stride=grid.shape[1],
@@ -311,14 +325,15 @@ class Recorder(Closable):
             replace_all: delete every entity previously sent on the topic first.
         """
         ns = self._stamp(topic, t)
-        stamp = _timestamp(ns)
+        stamp = convert.timestamp(ns)
         deletions = (
             [fm.SceneEntityDeletion(timestamp=stamp, type=fm.SceneEntityDeletionType.All)]
             if replace_all
             else []
         )
         message = fm.SceneUpdate(
-            deletions=deletions, entities=[_scene_entity(entity, stamp) for entity in entities]
+            deletions=deletions,
+            entities=[convert.scene_entity(entity, stamp) for entity in entities],
         )
         self._channel(topic, fc.SceneUpdateChannel).log(message, log_time=ns)
 
@@ -347,7 +362,7 @@ class Recorder(Closable):
             )
             for i, name in enumerate(names)
         ]
-        message = fm.JointStates(timestamp=_timestamp(ns), joints=joints)
+        message = fm.JointStates(timestamp=convert.timestamp(ns), joints=joints)
         self._channel(topic, fc.JointStatesChannel).log(message, log_time=ns)
 
     def log_json(
@@ -358,7 +373,7 @@ class Recorder(Closable):
         The schema is fixed by the first message on a topic.
         """
         ns = self._stamp(topic, t)
-        text = json.dumps(_jsonable(payload), allow_nan=False, separators=(",", ":"))
+        text = json.dumps(convert.jsonable(payload), allow_nan=False, separators=(",", ":"))
         if topic not in self._channels:
             channel = foxglove.Channel(
                 topic,
@@ -403,7 +418,37 @@ class Recorder(Closable):
             self._now_ns = ns
             for sink in self._sinks:
                 sink.broadcast_time(ns)
+        if self._latched:
+            self._resend_latched()
         return ns
+
+    def _resend_latched(self) -> None:
+        """Log the latched messages again on the topics viewers subscribed to since last time.
+
+        Every sink gets the copy (foxglove-sdk's Python API cannot address one client): a file
+        then holds the message twice, at the same log time, which keeps the topic in order.
+        """
+        for sink in self._sinks:
+            for topic in sink.new_subscriptions():
+                latched = self._latched.get(topic)
+                if latched is not None:
+                    message, ns = latched
+                    self._channels[topic][1].log(message, log_time=ns)
+
+
+def _frame_transforms(transforms: Sequence[Transform], stamp: fm.Timestamp) -> fm.FrameTransforms:
+    return fm.FrameTransforms(
+        transforms=[
+            fm.FrameTransform(
+                timestamp=stamp,
+                parent_frame_id=tf.parent,
+                child_frame_id=tf.child,
+                translation=convert.vector3(tf.translation),
+                rotation=convert.quaternion(tf.rotation),
+            )
+            for tf in transforms
+        ]
+    )
 
 
 class Trail:
@@ -433,96 +478,3 @@ class Trail:
     def poses(self) -> np.ndarray:
         """Kept poses, rows ``(x, y, yaw)``."""
         return np.array(self._poses, dtype=float).reshape(-1, 3)
-
-
-def _yaw_quaternions(yaws: np.ndarray) -> np.ndarray:
-    """Quaternions (x, y, z, w) of rotations by ``yaws`` (rad) about z, one scipy call."""
-    if len(yaws) == 0:
-        return np.empty((0, 4))
-    return np.asarray(Rotation.from_euler("z", yaws.reshape(-1, 1)).as_quat()).reshape(-1, 4)
-
-
-def _timestamp(ns: int) -> fm.Timestamp:
-    sec, nsec = divmod(ns, 1_000_000_000)
-    return fm.Timestamp(sec, nsec)
-
-
-def _vector3(values: Sequence[float] | np.ndarray) -> fm.Vector3:
-    return fm.Vector3(x=float(values[0]), y=float(values[1]), z=float(values[2]))
-
-
-def _quaternion(values: Sequence[float] | np.ndarray) -> fm.Quaternion:
-    x, y, z, w = (float(v) for v in values)
-    return fm.Quaternion(x=x, y=y, z=z, w=w)
-
-
-def _pose(
-    position: Sequence[float] | np.ndarray, orientation: Sequence[float] | np.ndarray
-) -> fm.Pose:
-    return fm.Pose(position=_vector3(position), orientation=_quaternion(orientation))
-
-
-def _color(rgba: Rgba) -> fm.Color:
-    r, g, b, a = rgba
-    return fm.Color(r=r, g=g, b=b, a=a)
-
-
-def _scene_entity(entity: Entity, stamp: fm.Timestamp) -> fm.SceneEntity:
-    cubes, spheres, cylinders = [], [], []
-    for p in entity.primitives:
-        pose, size, color = _pose(p.position, p.orientation), _vector3(p.size), _color(p.colour)
-        if p.shape == "cube":
-            cubes.append(fm.CubePrimitive(pose=pose, size=size, color=color))
-        elif p.shape == "sphere":
-            spheres.append(fm.SpherePrimitive(pose=pose, size=size, color=color))
-        else:
-            cylinders.append(
-                fm.CylinderPrimitive(
-                    pose=pose, size=size, bottom_scale=1.0, top_scale=1.0, color=color
-                )
-            )
-    arrows = [
-        fm.ArrowPrimitive(
-            pose=_pose(a.position, a.orientation),
-            shaft_length=0.7 * a.length,
-            shaft_diameter=0.08 * a.length,
-            head_length=0.3 * a.length,
-            head_diameter=0.2 * a.length,
-            color=_color(a.colour),
-        )
-        for a in entity.arrows
-    ]
-    texts = [
-        fm.TextPrimitive(
-            pose=_pose(label.position, IDENTITY),
-            billboard=True,
-            font_size=label.font_size,
-            color=_color(label.colour),
-            text=label.text,
-        )
-        for label in entity.labels
-    ]
-    return fm.SceneEntity(
-        timestamp=stamp,
-        frame_id=entity.frame_id,
-        id=entity.id,
-        metadata=[fm.KeyValuePair(key=k, value=v) for k, v in entity.metadata.items()],
-        cubes=cubes,
-        spheres=spheres,
-        cylinders=cylinders,
-        arrows=arrows,
-        texts=texts,
-    )
-
-
-def _jsonable(value: Any) -> Any:
-    """``value`` with numpy types as Python ones and non-finite floats as None."""
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple | np.ndarray):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

@@ -2,21 +2,27 @@
 
 A sink is attached to the recorder's ``foxglove.Context``; every channel logged on that context
 reaches every attached sink. :class:`McapSink` writes an MCAP file, :class:`LiveSink` serves
-Foxglove's WebSocket protocol with foxglove-sdk's server.
+Foxglove's WebSocket protocol with foxglove-sdk's server, behind a relay that also accepts the
+protocol's older name (:mod:`baobab.sim.live_relay`).
 """
 
 from __future__ import annotations
 
+import sys
 import threading
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import foxglove
 from foxglove.websocket import Capability, ChannelView, Client, ServerListener
 
 from baobab.sim.errors import BaobabError
 from baobab.sim.output_file import OutputFile
+
+if TYPE_CHECKING:
+    from baobab.sim.live_relay import SubprotocolRelay
 
 
 class RecordingError(BaobabError):
@@ -36,6 +42,13 @@ class Sink(ABC):
 
     def broadcast_time(self, time_ns: int) -> None:  # noqa: B027 (optional hook)
         """Tell live viewers the current time (ns); files ignore it."""
+
+    def new_subscriptions(self) -> set[str]:
+        """Topics a live viewer subscribed to since the last call (to resend latched ones).
+
+        Files have no viewers: none by default.
+        """
+        return set()
 
 
 class McapSink(Sink):
@@ -88,45 +101,95 @@ class McapSink(Sink):
 
 
 class LiveSink(Sink):
-    """Serve the messages to Foxglove over its WebSocket protocol (foxglove-sdk's server).
+    """Serve the messages to Foxglove over its WebSocket protocol.
 
-    Foxglove connects to :attr:`url`. Clients see only what is logged after they subscribe,
-    so republish static content (the world scene) periodically, e.g. at 1 Hz.
+    Foxglove connects to :attr:`url` with either subprotocol, ``foxglove.sdk.v1`` or the older
+    ``foxglove.websocket.v1``. Clients see only what is logged after they subscribe, so
+    republish static content (the world scene) periodically, e.g. at 1 Hz, or latch it
+    (:meth:`Recorder.log_static_transforms`).
 
     Args:
         host: address to bind; the default serves this machine only.
         port: TCP port; 0 picks a free one (read it back from :attr:`port`).
         name: the server name shown in Foxglove.
+        report: told, once per client address, that a handshake was refused (from the
+            server's thread); the default prints to stderr.
     """
 
-    def __init__(self, host: str = "127.0.0.1", port: int = 8765, name: str = "baobab") -> None:
+    def __init__(
+        self,
+        host: str = "127.0.0.1",
+        port: int = 8765,
+        name: str = "baobab",
+        *,
+        report: Callable[[str], None] | None = None,
+    ) -> None:
         self.host = host
         self.name = name
         self._requested_port = port
+        self._report = report or _to_stderr
         self._server: foxglove.WebSocketServer | None = None
+        self._relay: SubprotocolRelay | None = None
         self._listener = _SubscriptionCounter()
 
     def attach(self, context: foxglove.Context) -> None:
+        from baobab.sim.live_relay import SubprotocolRelay, listening_socket
+
+        where = f"{self.host}:{self._requested_port}"
+        try:
+            # The public port first: a port in use fails before anything starts.
+            sock = listening_socket(self.host, self._requested_port)
+        except OSError as error:
+            raise RecordingError(f"cannot serve Foxglove on {where}: {error}") from error
         try:
             self._server = foxglove.start_server(
                 name=self.name,
-                host=self.host,
-                port=self._requested_port,
+                host="127.0.0.1",  # reached only through the relay
+                port=0,
                 capabilities=[Capability.Time],
                 server_listener=self._listener,
                 context=context,
             )
+            upstream = f"ws://127.0.0.1:{self._server.port}"
+            self._relay = SubprotocolRelay(sock, upstream, self._report)
         except Exception as error:  # the SDK raises its own (Rust) error types
-            raise RecordingError(
-                f"cannot serve Foxglove on {self.host}:{self._requested_port}: {error}"
-            ) from error
+            sock.close()
+            self.close()
+            raise RecordingError(f"cannot serve Foxglove on {where}: {error}") from error
+
+    @staticmethod
+    def check_address(host: str, port: int) -> None:
+        """Raise unless a server could listen on ``host``:``port`` now (before a run starts).
+
+        Resolves ``host`` as the server does (a name, an IPv4 or IPv6 address, ``[::1]``) and
+        binds a probe socket to it, with the address reuse the server's listener sets too.
+
+        Raises:
+            RecordingError: the host does not resolve, is not this machine's, or the port is
+                taken or not allowed.
+        """
+        import socket
+
+        name = host[1:-1] if host.startswith("[") and host.endswith("]") else host
+        try:
+            if not name:
+                raise OSError(0, "no address given")
+            family, kind, protocol, _, address = socket.getaddrinfo(
+                name, port, type=socket.SOCK_STREAM
+            )[0]
+            with socket.socket(family, kind, protocol) as probe:
+                probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+                probe.bind(address)
+        except (OSError, UnicodeError) as error:
+            reason = getattr(error, "strerror", None) or str(error)
+            raise RecordingError(f"cannot serve Foxglove on {host}:{port}: {reason}") from None
 
     @property
     def port(self) -> int:
         """The port the server listens on."""
-        if self._server is None:
+        if self._relay is None:
             raise RecordingError("the live server is not started (attach it to a Recorder)")
-        return self._server.port
+        return self._relay.port
 
     @property
     def url(self) -> str:
@@ -137,6 +200,9 @@ class LiveSink(Sink):
         if self._server is not None:
             self._server.broadcast_time(time_ns)
 
+    def new_subscriptions(self) -> set[str]:
+        return self._listener.take_new()
+
     def wait_for_subscription(self, topic: str, timeout: float) -> bool:
         """Block until a client subscribes to ``topic`` or ``timeout`` (wall s) passes.
 
@@ -145,6 +211,9 @@ class LiveSink(Sink):
         return self._listener.wait_for(topic, timeout)
 
     def close(self) -> None:
+        if self._relay is not None:
+            self._relay.close()
+            self._relay = None
         if self._server is not None:
             self._server.stop()
             self._server = None
@@ -156,6 +225,13 @@ class _SubscriptionCounter(ServerListener):
     def __init__(self) -> None:
         self._changed = threading.Condition()
         self._counts: dict[str, int] = {}
+        self._new: set[str] = set()
+
+    def take_new(self) -> set[str]:
+        """Topics subscribed to since the last call."""
+        with self._changed:
+            new, self._new = self._new, set()
+            return new
 
     def wait_for(self, topic: str, timeout: float) -> bool:
         with self._changed:
@@ -164,8 +240,13 @@ class _SubscriptionCounter(ServerListener):
     def on_subscribe(self, client: Client, channel: ChannelView) -> None:
         with self._changed:
             self._counts[channel.topic] = self._counts.get(channel.topic, 0) + 1
+            self._new.add(channel.topic)
             self._changed.notify_all()
 
     def on_unsubscribe(self, client: Client, channel: ChannelView) -> None:
         with self._changed:
             self._counts[channel.topic] = max(0, self._counts.get(channel.topic, 0) - 1)
+
+
+def _to_stderr(message: str) -> None:
+    print(message, file=sys.stderr)

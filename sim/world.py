@@ -13,15 +13,16 @@ from functools import cached_property
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import ConfigDict, Field, ValidationError, model_validator
 
 from baobab.sim.errors import WorldError
+from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import (
-    MAX_FILE_BYTES,
     FieldValueError,
     describe_validation_error,
     empty_list,
     load_located_yaml,
+    read_yaml_text,
 )
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
@@ -43,8 +44,25 @@ MOVABLE_SLOT_PREFIX = "movable_"
 MOVABLE_SLOT_COUNT = 4
 """How many run-time obstacle slots every built model has (at most that many spawned at once)."""
 
+# Size limits of a world (README "Limits"): each is checked when the file is loaded, so
+# `baobab validate` refuses a world that a run could not build in memory or in good time.
+MAX_FLOOR_SIDE = 1_000.0
+"""Longest floor side (m); no obstacle is larger either."""
+MAX_COORDINATE = 10_000.0
+"""Largest distance of the floor's and the obstacles' centres from the origin along x or y (m)."""
+COSTMAP_CELL_SIZE = 0.05
+"""Cell side (m) of the navigation stack's global costmap, which covers the whole floor (Nav2's
+default ``resolution``, :class:`baobab.nav.layered_costmap.CostmapParams`)."""
+MAX_COSTMAP_CELLS = 10_000_000
+"""Most cells in a global costmap: about 10 bytes each while a run navigates, so a floor of
+about 158 m x 158 m (or 1000 m x 10 m) costs some 100 MB."""
+MAX_OBSTACLES = 1_000
+"""Most boxes and cylinders in one world (each adds to the model's build and contact sensing)."""
+MAX_NAMED_POSES = 1_000
+"""Most spawns and locations in one world."""
 
-class _Strict(BaseModel):
+
+class _Strict(YamlModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
@@ -123,6 +141,7 @@ class World(_Strict):
     def _check(self) -> World:
         if "default" not in self.spawns:
             raise FieldValueError(("spawns",), "needs a 'default' entry")
+        self._check_sizes()
         obstacles = [("boxes", i, b.name) for i, b in enumerate(self.boxes)]
         obstacles += [("cylinders", i, c.name) for i, c in enumerate(self.cylinders)]
         seen: set[str] = set()
@@ -149,6 +168,59 @@ class World(_Strict):
                     )
         return self
 
+    def _check_sizes(self) -> None:
+        """The limits of :data:`MAX_FLOOR_SIDE` ... :data:`MAX_NAMED_POSES`."""
+        (sx, sy), (cx, cy) = self.floor.size, self.floor.center
+        if max(sx, sy) > MAX_FLOOR_SIDE:
+            raise FieldValueError(
+                ("floor", "size"),
+                f"the floor is {sx:g} m x {sy:g} m; the limit is {MAX_FLOOR_SIDE:g} m a side "
+                "(MAX_FLOOR_SIDE)",
+            )
+        if max(abs(cx), abs(cy)) > MAX_COORDINATE:
+            raise FieldValueError(("floor", "center"), _far_away("the floor's centre", cx, cy))
+        cells = math.ceil(round(sx / COSTMAP_CELL_SIZE, 9)) * math.ceil(
+            round(sy / COSTMAP_CELL_SIZE, 9)
+        )
+        if cells > MAX_COSTMAP_CELLS:
+            raise FieldValueError(
+                ("floor", "size"),
+                f"the floor is {sx:g} m x {sy:g} m: {cells:,} cells of the navigation costmap at "
+                f"{COSTMAP_CELL_SIZE:g} m; the limit is {MAX_COSTMAP_CELLS:,} cells "
+                "(MAX_COSTMAP_CELLS)",
+            )
+        count = len(self.boxes) + len(self.cylinders)
+        if count > MAX_OBSTACLES:
+            group = "boxes" if len(self.boxes) >= len(self.cylinders) else "cylinders"
+            raise FieldValueError(
+                (group,),
+                f"{count} obstacles (boxes and cylinders); the limit is {MAX_OBSTACLES} "
+                "(MAX_OBSTACLES)",
+            )
+        poses = len(self.spawns) + len(self.locations)
+        if poses > MAX_NAMED_POSES:
+            raise FieldValueError(
+                ("locations",) if self.locations else ("spawns",),
+                f"{poses} spawns and locations; the limit is {MAX_NAMED_POSES} (MAX_NAMED_POSES)",
+            )
+        for group, index, center, extent in [
+            *(("boxes", i, b.center, max(b.size + (b.height,))) for i, b in enumerate(self.boxes)),
+            *(
+                ("cylinders", i, c.center, max(2 * c.radius, c.height))
+                for i, c in enumerate(self.cylinders)
+            ),
+        ]:
+            if max(abs(center[0]), abs(center[1])) > MAX_COORDINATE:
+                raise FieldValueError(
+                    (group, index, "center"), _far_away("the centre", center[0], center[1])
+                )
+            if extent > MAX_FLOOR_SIDE:
+                raise FieldValueError(
+                    (group, index),
+                    f"an obstacle {extent:g} m across; the limit is {MAX_FLOOR_SIDE:g} m "
+                    "(MAX_FLOOR_SIDE)",
+                )
+
     @cached_property
     def bounds(self) -> tuple[float, float, float, float]:
         """Floor extent as (x_min, y_min, x_max, y_max) in metres."""
@@ -170,6 +242,13 @@ class World(_Strict):
         if name in self.locations:
             return self.locations[name]
         return self.spawns[name]
+
+
+def _far_away(what: str, x: float, y: float) -> str:
+    return (
+        f"{what} ({x:g}, {y:g}) is more than {MAX_COORDINATE:g} m from the origin along x or y "
+        "(MAX_COORDINATE)"
+    )
 
 
 BUNDLED_WORLDS = ("walls", "cafe", "farm", "town")
@@ -214,21 +293,21 @@ def load_world(name_or_path: str | Path) -> World:
         path = bundled_world_path(text_name)
     else:
         path = Path(name_or_path)
-    key = _cache_key(path)
-    cached = _LOADED.get(key) if key is not None else None
+    text = read_yaml_text(path, WorldError)
+    key = _cache_key(path, text)
+    cached = _LOADED.get(key)
     if cached is not None:
         return cached
-    document = load_located_yaml(path, WorldError)
+    document = load_located_yaml(path, WorldError, text=text)
     if not isinstance(document.data, dict):
         raise document.error((), "a world file must be a mapping of keys", WorldError)
     try:
         world = World.model_validate(document.data)
     except ValidationError as exc:
         raise describe_validation_error(document, exc, (), WorldError) from None
-    if key is not None:
-        if len(_LOADED) >= _LOADED_MAX:
-            _LOADED.pop(next(iter(_LOADED)))
-        _LOADED[key] = world
+    if len(_LOADED) >= _LOADED_MAX:
+        _LOADED.pop(next(iter(_LOADED)))
+    _LOADED[key] = world
     return world
 
 
@@ -239,11 +318,6 @@ same text again."""
 _LOADED_MAX = 32
 
 
-def _cache_key(path: Path) -> tuple[str, bytes] | None:
-    """(resolved path, SHA-256 of the content) of a world file; None if it cannot be read."""
-    try:
-        if not path.is_file() or path.stat().st_size > MAX_FILE_BYTES:
-            return None
-        return str(path.resolve()), hashlib.sha256(path.read_bytes()).digest()
-    except OSError:
-        return None
+def _cache_key(path: Path, text: str) -> tuple[str, bytes]:
+    """(resolved path, SHA-256 of the content) of a world file."""
+    return str(path.resolve()), hashlib.sha256(text.encode("utf-8", "surrogatepass")).digest()

@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import yaml
 
+from baobab.sim.text_positions import TextPositions
+
 _NODE_EVENTS = (
     yaml.ScalarEvent,
     yaml.AliasEvent,
@@ -83,12 +85,13 @@ def scan_limits(text: str, max_values: int, max_depth: int) -> ScanProblem | Sca
     """
     from yaml._yaml import CParser  # present whenever libyaml_available() is True
 
+    positions = TextPositions(text)
     parser = CParser(text)
     try:
-        return _scan_events(parser.get_event, max_values, max_depth)
+        return _scan_events(parser.get_event, max_values, max_depth, positions)
     except yaml.MarkedYAMLError as exc:
         if LIBYAML_DEPTH_LIMIT not in str(exc.problem):
-            return _syntax_problem(exc)
+            return _syntax_problem(exc, positions)
     finally:
         parser.dispose()
     # libyaml's scanner reads ahead over tightly packed brackets (``[[[[...``) and stops at its
@@ -96,9 +99,9 @@ def scan_limits(text: str, max_values: int, max_depth: int) -> ScanProblem | Sca
     # PyYAML's pure-Python parser has no such limit and also keeps its own stack.
     events = yaml.parse(text, Loader=yaml.SafeLoader)
     try:
-        return _scan_events(lambda: next(events, None), max_values, max_depth)
+        return _scan_events(lambda: next(events, None), max_values, max_depth, positions)
     except yaml.MarkedYAMLError as exc:
-        return _syntax_problem(exc)
+        return _syntax_problem(exc, positions)
 
 
 LIBYAML_DEPTH_LIMIT = "maximum nesting depth"
@@ -106,7 +109,10 @@ LIBYAML_DEPTH_LIMIT = "maximum nesting depth"
 
 
 def _scan_events(
-    next_event: Callable[[], yaml.Event | None], max_values: int, max_depth: int
+    next_event: Callable[[], yaml.Event | None],
+    max_values: int,
+    max_depth: int,
+    positions: TextPositions,
 ) -> ScanProblem | ScanResult:
     """The scan of :func:`scan_limits` over a parser's events (raises its syntax errors)."""
     values = 0
@@ -122,9 +128,9 @@ def _scan_events(
                 values += 1
                 level = len(frames)
                 if values > max_values:
-                    return _problem(event, f"more than {max_values} values")
+                    return _problem(event, f"more than {max_values} values", positions)
                 if level > max_depth:
-                    return _problem(event, f"nesting deeper than {max_depth} levels")
+                    return _problem(event, f"nesting deeper than {max_depth} levels", positions)
                 depth = max(depth, level)
             if isinstance(event, _START_EVENTS):
                 frames.append([int(isinstance(event, yaml.MappingStartEvent)), 0, int(is_key)])
@@ -139,14 +145,14 @@ def _scan_events(
             return ScanResult(values, depth)
 
 
-def _syntax_problem(exc: yaml.MarkedYAMLError) -> ScanProblem:
+def _syntax_problem(exc: yaml.MarkedYAMLError, positions: TextPositions) -> ScanProblem:
     mark = exc.problem_mark or exc.context_mark
-    line, column = (mark.line + 1, mark.column + 1) if mark else (1, 1)
+    line, column = positions.of_mark(mark) if mark else (1, 1)
     return ScanProblem(line, column, f"YAML syntax error: {exc.problem or exc.context}")
 
 
-def _problem(event: yaml.Event, message: str) -> ScanProblem:
+def _problem(event: yaml.Event, message: str, positions: TextPositions) -> ScanProblem:
     mark = event.start_mark
     if mark is None:
         return ScanProblem(1, 1, message)
-    return ScanProblem(mark.line + 1, mark.column + 1, message)
+    return ScanProblem(*positions.of_mark(mark), message)

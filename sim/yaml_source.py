@@ -16,7 +16,10 @@ from typing import Any
 import yaml
 from pydantic import ValidationError
 
-from baobab.sim.errors import BaobabError, SourceError
+from baobab.sim.errors import BaobabError, SourceError, clip
+from baobab.sim.input_files import MAX_INPUT_BYTES, read_input_file
+from baobab.sim.text_positions import TextPositions
+from baobab.sim.yaml11 import scalar_surprise, unquoted_break
 from baobab.sim.yaml_limits import (
     ScanProblem,
     events_at_most,
@@ -24,7 +27,7 @@ from baobab.sim.yaml_limits import (
     scan_limits,
 )
 
-MAX_FILE_BYTES = 2_000_000
+MAX_FILE_BYTES = MAX_INPUT_BYTES
 MAX_DEPTH = 64
 MAX_ALIASES = 100
 MAX_NODES = 20_000
@@ -120,14 +123,23 @@ def load_located_yaml(
 ) -> LocatedDocument:
     """Load one YAML document safely, keeping marks; every problem is a located error.
 
-    Rejects: unreadable, oversized, binary or non-UTF-8 files; syntax errors; several
-    documents; duplicate keys; non-string keys; non-finite numbers; more than ``MAX_ALIASES``
-    aliases; nesting deeper than ``MAX_DEPTH``; more than ``MAX_NODES`` values.
+    Rejects: unreadable, oversized, binary or non-UTF-8 files and anything but a regular
+    file (:func:`read_yaml_text`); syntax errors; several documents; duplicate keys;
+    non-string keys; non-finite numbers; the YAML 1.1 readings YAML 1.2 dropped (``yes``/``no``/
+    ``on``/``off`` as booleans, base-60 ``1:30``, octal ``010``); more than ``MAX_ALIASES``
+    aliases; nesting deeper than ``MAX_DEPTH``; more than ``MAX_NODES`` values. Lines and
+    columns count line breaks as YAML 1.2 and editors do (:mod:`baobab.sim.text_positions`).
     """
     shown = str(path)
     if text is None:
-        text = _read_text(Path(path), shown, error_type)
-    fast = _load_with_libyaml(shown, text, error_type)
+        text = read_yaml_text(path, error_type)
+    text = text.removeprefix("\ufeff")  # the parsers skip it, but only one counts it in marks
+    positions = TextPositions(text)
+    if positions.has_yaml11_breaks:
+        found = unquoted_break(text)
+        if found is not None:
+            raise error_type(shown, *positions.of_index(found[0]), found[1])
+    fast = _load_with_libyaml(shown, text, positions, error_type)
     if fast is not None:
         return fast
     try:
@@ -138,12 +150,11 @@ def load_located_yaml(
             loader.dispose()
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
-        line, column = (mark.line + 1, mark.column + 1) if mark else (1, 1)
+        line, column = positions.of_mark(mark) if mark else (1, 1)
         problem = exc.problem or exc.context or "invalid YAML"
         raise error_type(shown, line, column, f"YAML syntax error: {problem}") from None
     except yaml.reader.ReaderError as exc:  # a control character; str(exc) spans two lines
-        before = text[: exc.position]
-        line, column = before.count("\n") + 1, exc.position - (before.rfind("\n") + 1) + 1
+        line, column = positions.of_index(exc.position)
         raise error_type(
             shown, line, column, f"character #x{exc.character:04x} is not allowed in YAML text"
         ) from None
@@ -155,7 +166,7 @@ def load_located_yaml(
     if root is None:
         raise error_type(shown, 1, 1, "the file is empty; expected a YAML mapping")
     try:
-        document.data = _Builder(document, error_type).build_root(root)
+        document.data = _Builder(document, positions, error_type).build_root(root)
     except _SizeLimitError as exc:
         raise exc.error from None
     return document
@@ -180,7 +191,10 @@ the value limit, and then need no event-by-event scan."""
 
 
 def _load_with_libyaml(
-    shown: str, text: str, error_type: Callable[[str, int, int, str], SourceError]
+    shown: str,
+    text: str,
+    positions: TextPositions,
+    error_type: Callable[[str, int, int, str], SourceError],
 ) -> LocatedDocument | None:
     """The document through libyaml (~15x faster than pure-Python PyYAML), or None.
 
@@ -212,7 +226,7 @@ def _load_with_libyaml(
         if root is None:
             return None
         document = LocatedDocument(shown, None)
-        document.data = _Builder(document, error_type).build_root(root)
+        document.data = _Builder(document, positions, error_type).build_root(root)
     except _SizeLimitError as exc:
         # Refusing a huge document must not cost a second, pure-Python pass over it.
         raise exc.error from None
@@ -220,7 +234,7 @@ def _load_with_libyaml(
         if not trust_libyaml:
             return None
         mark = exc.problem_mark or exc.context_mark
-        line, column = (mark.line + 1, mark.column + 1) if mark else (1, 1)
+        line, column = positions.of_mark(mark) if mark else (1, 1)
         problem = exc.problem or exc.context or "invalid YAML"
         raise error_type(shown, line, column, f"YAML syntax error: {problem}") from None
     except SourceError:
@@ -249,31 +263,24 @@ def _nesting_bound(text: str) -> int:
     return flow + block + 1
 
 
-def _read_text(
-    path: Path, shown: str, error_type: Callable[[str, int, int, str], SourceError]
+def read_yaml_text(
+    path: str | Path, error_type: Callable[[str, int, int, str], SourceError] = SourceError
 ) -> str:
-    try:
-        if path.is_dir():
-            raise error_type(shown, 1, 1, "is a directory; expected a YAML file")
-        size = path.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise error_type(
-                shown, 1, 1, f"file is {size} bytes; the limit is {MAX_FILE_BYTES} bytes"
-            )
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise error_type(shown, 1, 1, "no such file") from None
-    except PermissionError:
-        raise error_type(shown, 1, 1, "permission denied") from None
-    except OSError as exc:
-        raise error_type(shown, 1, 1, f"cannot read: {exc.strerror}") from None
+    """The text of a YAML file: a regular file of at most ``MAX_FILE_BYTES``, UTF-8, no NUL.
+
+    Raises:
+        error_type: located at the problem (1:1 for the file itself, the first undecodable
+            byte for bad UTF-8).
+    """
+    shown = str(path)
+    raw = read_input_file(path, error_type, expected="a YAML file", limit=MAX_FILE_BYTES)
     if b"\x00" in raw:
         raise error_type(shown, 1, 1, "binary data (NUL byte); expected a YAML text file")
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError as exc:
-        line = raw[: exc.start].count(b"\n") + 1
-        column = exc.start - (raw.rfind(b"\n", 0, exc.start) + 1) + 1
+        before = raw[: exc.start].decode("utf-8")  # valid up to the first bad byte
+        line, column = TextPositions(before).of_index(len(before))
         raise error_type(shown, line, column, "not valid UTF-8 text") from None
 
 
@@ -295,10 +302,14 @@ class _Builder:
     """Turns a composed node graph into plain data, recording marks and enforcing limits."""
 
     def __init__(
-        self, document: LocatedDocument, error_type: Callable[[str, int, int, str], SourceError]
+        self,
+        document: LocatedDocument,
+        positions: TextPositions,
+        error_type: Callable[[str, int, int, str], SourceError],
     ) -> None:
         self.document = document
         self.marks = document.marks
+        self.where = positions.of_mark
         self.error_type = error_type
         self.nodes = 0
         self.aliases = 0
@@ -306,11 +317,11 @@ class _Builder:
 
     def build_root(self, root: yaml.Node) -> Any:
         """The data of the whole document."""
-        self.marks[()] = (root.start_mark.line + 1, root.start_mark.column + 1)
+        self.marks[()] = self.where(root.start_mark)
         return self.build(root, (), 0)
 
     def _error(self, mark: Any, message: str) -> SourceError:
-        return self.error_type(self.document.path, mark.line + 1, mark.column + 1, message)
+        return self.error_type(self.document.path, *self.where(mark), message)
 
     def build(self, node: yaml.Node, key_path: KeyPath, depth: int) -> Any:
         """The data of ``node`` at ``key_path``, ``depth`` collections below the root."""
@@ -327,10 +338,10 @@ class _Builder:
                 raise self._error(mark, f"more than {MAX_ALIASES} aliases (alias bomb?)")
         else:
             self.seen.add(identity)
-        self.marks.setdefault(key_path, (mark.line + 1, mark.column + 1))
+        self.marks.setdefault(key_path, self.where(mark))
         kind = type(node)
         if kind is yaml.ScalarNode:
-            return _scalar(node, self.document, self.error_type)
+            return self.scalar(node)
         if node.tag not in _PLAIN_TAGS:
             raise self._error(mark, f"unsupported YAML tag {node.tag}")
         if kind is yaml.MappingNode:
@@ -346,9 +357,9 @@ class _Builder:
             key_mark = key_node.start_mark
             if key_node.tag == "tag:yaml.org,2002:merge":
                 raise self._error(key_mark, "merge keys (<<) are not supported; write the keys out")
-            key = _scalar(key_node, self.document, self.error_type)
+            key = self.scalar(key_node)
             if not isinstance(key, str | int) or isinstance(key, bool):
-                raise self._error(key_mark, f"mapping key {key!r} must be a string")
+                raise self._error(key_mark, f"mapping key {clip(repr(key))} must be a string")
             key = str(key)
             path = key_path + (key,)
             if key in result:
@@ -356,21 +367,29 @@ class _Builder:
                 raise self._error(
                     key_mark, f"duplicate key '{key}' (first defined at line {first[0]})"
                 )
-            self.marks[path] = (key_mark.line + 1, key_mark.column + 1)
+            self.marks[path] = self.where(key_mark)
             result[key] = self.build(value_node, path, depth + 1)
         return result
 
+    def scalar(self, node: yaml.Node) -> Any:
+        """The value of a scalar node (a located error for anything else)."""
+        if type(node) is yaml.ScalarNode and node.tag == _STR_TAG:
+            return node.value
+        line, column = self.where(node.start_mark)
+        try:
+            return _scalar(node)
+        except ValueError as exc:
+            raise self.error_type(self.document.path, line, column, str(exc)) from None
 
-def _scalar(
-    node: yaml.Node,
-    document: LocatedDocument,
-    error_type: Callable[[str, int, int, str], SourceError],
-) -> Any:
-    if type(node) is yaml.ScalarNode and node.tag == _STR_TAG:
-        return node.value
-    line, column = node.start_mark.line + 1, node.start_mark.column + 1
+
+def _scalar(node: yaml.Node) -> Any:
+    """The value of a scalar node that is not a plain string.
+
+    Raises:
+        ValueError: the message of a located error (the caller knows where).
+    """
     if not isinstance(node, yaml.ScalarNode):
-        raise error_type(document.path, line, column, "expected a plain value here")
+        raise ValueError("expected a plain value here")
     plain = _PLAIN_SCALAR_CONSTRUCTORS.get(node.tag)
     text = node.value
     value: Any
@@ -386,20 +405,21 @@ def _scalar(
             value = _CONSTRUCTOR.construct_object(node, deep=True)
     except Exception as exc:  # an explicit tag (!!int abc, !!timestamp x, !x) makes PyYAML's
         # constructors raise anything from ValueError to AttributeError; all mean a bad value.
-        problem = getattr(exc, "problem", None) or f"{node.value!r} is not a valid {node.tag}"
-        raise error_type(document.path, line, column, f"invalid value: {problem}") from None
+        problem = getattr(exc, "problem", None) or f"{clip(repr(text))} is not a valid {node.tag}"
+        raise ValueError(f"invalid value: {problem}") from None
     finally:
         # construct_object remembers every node it built: a process loading many files
         # would keep them all (and their marks) alive.
         _CONSTRUCTOR.constructed_objects.clear()
         _CONSTRUCTOR.recursive_objects.clear()
+    surprise = scalar_surprise(node.tag, text, value)
+    if surprise is not None:
+        raise ValueError(surprise)
     if isinstance(value, float) and not math.isfinite(value):
-        raise error_type(
-            document.path, line, column, f"non-finite number {node.value!r}; expected a finite one"
-        )
+        raise ValueError(f"non-finite number {clip(repr(text))}; expected a finite one")
     if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10**15:
-        raise error_type(document.path, line, column, f"number {node.value} is too large")
+        raise ValueError(f"number {clip(text)} is too large")
     if not isinstance(value, str | int | float | bool | type(None)):
         # Timestamps, binary blobs and the like: keep the text as written.
-        return node.value
+        return text
     return value

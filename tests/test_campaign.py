@@ -21,8 +21,10 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import jsonschema
 import numpy as np
 import pytest
+import yaml
 
 from baobab.missions.campaign import replay_target
 from baobab.missions.campaign_exec import execute_run
@@ -37,6 +39,7 @@ from baobab.missions.campaign_variant import load_run_mission, variant_of
 from baobab.missions.campaign_vary import CampaignError, variable_keys
 from baobab.missions.cli import main
 from baobab.missions.errors import MissionError
+from baobab.missions.json_schema import mission_json_schema
 from baobab.missions.loader import load_mission
 from baobab.missions.schema import SpawnObstacleEvent
 
@@ -249,6 +252,32 @@ def test_start_pushed_into_a_wall_is_an_invalid_run_that_replays(tmp_path: Path)
 
 
 @pytest.mark.parametrize(
+    "first_line",
+    ["# yaml-language-server: $schema=../mission.schema.json\n", "# Licence: MIT\n", ""],
+    ids=["schema elsewhere", "licence comment", "no comment"],
+)
+def test_a_replay_file_names_a_schema_that_exists_beside_it(
+    tmp_path: Path, first_line: str
+) -> None:
+    text = first_line + CRATE.split("\n", 1)[1]
+    path = tmp_path / "missions" / "crate.yaml"
+    path.parent.mkdir()
+    path.write_text(text)
+    spec = build_spec(load_mission(path), path, text, {}, [], ["start.y=-0.1,0.1"], 1, 0)
+    target = replay_target(spec, str(path), tmp_path / "campaign")
+    for task in spec.tasks():
+        variant = variant_of(task)
+        assert variant is not None
+        written = target.write_variant(task, variant)
+        comment = written.read_text().splitlines()[0]
+        assert comment.startswith("# yaml-language-server: $schema=")
+        schema = json.loads((written.parent / comment.split("=", 1)[1]).read_text())
+        assert schema == json.loads(json.dumps(mission_json_schema()))
+        jsonschema.validate(yaml.safe_load(written.read_text()), schema)
+        assert load_mission(written).start is not None
+
+
+@pytest.mark.parametrize(
     ("argv", "message"),
     [
         (["--vary", "start.x"], "expected KEY=VALUE"),
@@ -329,7 +358,8 @@ def test_campaign_summary_rows_and_plot(local_campaign: tuple[int, dict[str, Any
     assert all(f["replay"].startswith("baobab run ") for f in summary["failures"])
     assert (folder / "outcomes.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in (folder / "replay").iterdir()) == [
-        f"run-{i:04d}.yaml" for i in range(8)
+        "mission.schema.json",  # what the replay files' editor comment names
+        *(f"run-{i:04d}.yaml" for i in range(8)),
     ]
     summarised = CampaignSummary("campaign_dash", 8, rows).as_json()
     assert summarised["failures"] == summary["failures"]

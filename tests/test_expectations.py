@@ -191,17 +191,24 @@ def test_arm_expectations(tmp_path: Path) -> None:
     assert not evaluate(mission.expect, SUCCEEDED, metrics, mission)[1].passed
 
 
-def test_metric_names_are_checked_before_a_run(tmp_path: Path) -> None:
+def test_metric_names_are_checked_when_the_mission_loads(tmp_path: Path) -> None:
+    for body, name, message in [
+        (MOBILE, "path_lenght", "unknown metric 'path_lenght' in runs of turtlebot3; did you mean"),
+        (MOBILE, "final_pose", "metric 'final_pose' is not a number; bounds apply to: sim_time"),
+        (ARM, "path_length", "unknown metric 'path_length' in runs of panda"),
+    ]:
+        with pytest.raises(MissionError, match=message) as raised:
+            _mission(tmp_path, body, f"metrics:\n  {name}: {{max: 1}}")
+        assert (raised.value.line, raised.value.column) == (12 if body is MOBILE else 11, 5)
+
+
+def test_the_run_checks_metric_names_against_its_own_registry(tmp_path: Path) -> None:
     registry = MetricRegistry()
     registry.add("path_length", lambda: 0.0, unit="m")
     registry.add("final_pose", lambda: {}, number=False)
     known = _mission(tmp_path, MOBILE, "metrics:\n  path_length: {max: 1}")
     check_metric_names(known, registry.number_names(), registry.names())
-    for name, message in [
-        ("path_lenght", "unknown metric 'path_lenght' in runs of turtlebot3; did you mean"),
-        ("final_pose", "metric 'final_pose' is not a number; bounds apply to: path_length"),
-    ]:
-        mission = _mission(tmp_path, MOBILE, f"metrics:\n  {name}: {{max: 1}}")
-        with pytest.raises(MissionError, match=message) as raised:
-            check_metric_names(mission, registry.number_names(), registry.names())
-        assert (raised.value.line, raised.value.column) == (12, 5)
+    mission = _mission(tmp_path, MOBILE, "metrics:\n  sim_time: {max: 1}")
+    with pytest.raises(MissionError, match="unknown metric 'sim_time'") as raised:
+        check_metric_names(mission, registry.number_names(), registry.names())
+    assert (raised.value.line, raised.value.column) == (12, 5)

@@ -1,16 +1,19 @@
 """Mission loading: the fixtures load, and each kind of mistake is one located line.
 
 The malformed missions are small YAML strings; each row names the exact ``line:col`` the
-error must point at and a fragment of its message. Line 1 is always the schema header.
+error must point at and a fragment of its message. Line 1 of each is the editor comment.
 """
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
 import pytest
+import yaml
 
+from baobab.missions.cli import main
 from baobab.missions.errors import MissionError
 from baobab.missions.loader import load_mission
 from baobab.sim.errors import SourceError
@@ -191,10 +194,29 @@ def test_the_table_covers_at_least_thirty_mistakes() -> None:
     assert len({case[0] for case in MALFORMED}) == len(MALFORMED)
 
 
-def test_the_schema_header_is_required(tmp_path: Path) -> None:
-    path = _write(tmp_path, WALLS + WAIT_TREE)
-    with pytest.raises(MissionError, match=r":1:1: a mission file begins with '# yaml-language"):
-        load_mission(path)
+WITHOUT_EDITOR_COMMENT = {
+    "no comment": WALLS + WAIT_TREE,
+    "licence comment": "# SPDX-License-Identifier: Apache-2.0\n" + WALLS + WAIT_TREE,
+    "yaml.dump": yaml.dump(yaml.safe_load(WALLS + WAIT_TREE)),
+    "comment later": WALLS + WAIT_TREE + HEADER,
+}
+
+
+@pytest.mark.parametrize("text", WITHOUT_EDITOR_COMMENT.values(), ids=WITHOUT_EDITOR_COMMENT)
+def test_the_editor_comment_is_optional(tmp_path: Path, text: str) -> None:
+    mission = load_mission(_write(tmp_path, text))
+    assert (mission.name, mission.world_name, mission.tree.label) == ("m", "walls", "wait 1 s")
+
+
+def test_a_mission_written_by_yaml_dump_validates_and_runs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = _write(tmp_path, WITHOUT_EDITOR_COMMENT["yaml.dump"])
+    assert not path.read_text().startswith("#")
+    assert main(["validate", str(path)]) == 0
+    assert main(["run", str(path), "--json", "--out", str(tmp_path / "run")]) == 0
+    result = json.loads(capsys.readouterr().out.splitlines()[-1])
+    assert (result["mission"], result["result"]) == ("m", "SUCCEEDED")
 
 
 @pytest.mark.parametrize("name", ["delivery.yaml", "patrol.yaml", "pick.yaml"])

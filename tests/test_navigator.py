@@ -16,16 +16,19 @@ from navigation_rig import ContactWatch, distance
 
 from baobab.nav import BasicNavigator, NavigationResult, RunningTask, TaskResult
 from baobab.nav.errors import (
+    ComputePathThroughPosesError,
     ComputePathToPoseError,
     DriveOnHeadingError,
     FollowPathError,
     NavigateThroughPosesError,
     NavigateToPoseError,
+    SmoothPathError,
 )
 from baobab.nav.msgs import (
     DurationMsg,
     Goals,
     OccupancyGrid,
+    Path,
     PoseStamped,
     Quaternion,
     Twist,
@@ -292,6 +295,39 @@ def test_get_path_leaves_the_running_task_alone(cafe: BasicNavigator) -> None:
     wait(cafe, 30.0)
     assert cafe.getResult() is TaskResult.SUCCEEDED
     assert distance(cafe.robot_pose(), Pose2D(x=TABLE_1[0], y=TABLE_1[1])) <= 0.25
+
+
+def test_planning_and_smoothing_failures_are_the_task_error(cafe: BasicNavigator) -> None:
+    # As Nav2 Kilted's client: each request clears the error, a failure sets the server's.
+    table = goal(cafe, -2.0, -0.6)  # inside table 1
+    assert cafe.getPath(None, table) is None
+    code, message = cafe.getTaskError()
+    assert code == ComputePathToPoseError.GOAL_OCCUPIED and "in an obstacle" in message
+    path = cafe.getPath(None, goal(cafe, 1.0, -1.0))
+    assert path is not None and cafe.getTaskError() == (0, "")
+    assert cafe.getPath(None, goal(cafe, 1.0, -1.0), planner_id="NavFn") is None
+    code, message = cafe.getTaskError()
+    assert code == ComputePathToPoseError.INVALID_PLANNER and "'NavFn'" in message
+    assert cafe.getPathThroughPoses(None, []) is None
+    assert cafe.getTaskError()[0] == ComputePathThroughPosesError.NO_VIAPOINTS_GIVEN
+    assert cafe.getPathThroughPoses(None, [goal(cafe, 0.0, -2.0), table]) is None
+    assert cafe.getTaskError()[0] == ComputePathThroughPosesError.GOAL_OCCUPIED
+    odom = goal(cafe, 1.0, -1.0)
+    odom.header.frame_id = "odom"
+    assert cafe.getPathThroughPoses(None, [odom]) is None  # refused before the planner
+    assert cafe.getTaskError()[0] == ComputePathThroughPosesError.UNKNOWN
+    assert cafe.smoothPath(path, smoother_id="constrained_smoother") is None
+    assert cafe.getTaskError()[0] == SmoothPathError.INVALID_SMOOTHER
+    assert cafe.smoothPath(Path(header=path.header)) is None
+    assert cafe.getTaskError() == (SmoothPathError.INVALID_PATH, "the path has no poses")
+    assert cafe.smoothPath(path) is not None and cafe.getTaskError() == (0, "")
+    # A request that fails while a task runs: the task's own failure, when it comes, is newer.
+    assert cafe.goToPose(table) is RunningTask.NAVIGATE_TO_POSE
+    assert cafe.getPath(None, goal(cafe, 1.0, -1.0), planner_id="NavFn") is None
+    assert cafe.getTaskError()[0] == ComputePathToPoseError.INVALID_PLANNER
+    wait(cafe, 2.0)
+    assert cafe.getResult() is TaskResult.FAILED
+    assert cafe.getTaskError()[0] == ComputePathToPoseError.GOAL_OCCUPIED  # the navigation's
 
 
 def test_follow_path_tracks_a_planned_path(cafe: BasicNavigator) -> None:

@@ -162,7 +162,7 @@ def test_live_on_a_port_in_use_is_refused_before_the_run(
         arguments = ["--out", str(tmp_path / "run"), "--live", "--port", port]
         code, out, err = _cli(capsys, "run", str(_mission(tmp_path)), *arguments)
     assert (code, out) == (2, "")
-    assert err.startswith(f"baobab run: --live: cannot serve on 127.0.0.1:{port}: Address")
+    assert err.startswith(f"baobab run: cannot serve Foxglove on 127.0.0.1:{port}: Address")
     assert err.count("\n") == 1 and not (tmp_path / "run").exists()
 
 

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import json
 import re
+import shutil
+import subprocess
 import xml.etree.ElementTree as ET
 from importlib import resources
 from pathlib import Path
@@ -22,6 +24,7 @@ import matplotlib.figure
 import matplotlib.patches
 import matplotlib.patheffects  # noqa: F401
 import pytest
+import xmlschema
 
 import baobab.missions.scenario  # noqa: F401
 from baobab.missions.pytest_plugin import is_scenario_file
@@ -30,6 +33,9 @@ pytest_plugins = ["pytester"]
 
 BUNDLED = Path(str(resources.files("baobab.missions")))
 REPO = Path(__file__).resolve().parents[1]
+JUNIT_XSD = Path(__file__).parent / "junit" / "junit-10.xsd"
+JUNIT_SCHEMA = xmlschema.XMLSchema(str(JUNIT_XSD))
+"""pytest's xunit2 schema (its source is named in the file)."""
 BROKEN = """\
 # yaml-language-server: $schema=mission.schema.json
 mission: broken
@@ -124,21 +130,49 @@ def test_a_malformed_mission_is_a_located_error_and_the_others_still_run(
     assert "Traceback" not in text and "INTERNALERROR" not in text
 
 
-def test_junitxml_names_each_item_and_records_its_run(pytester: pytest.Pytester) -> None:
+def _valid_junit(report: Path) -> dict[str, ET.Element]:
+    """The testcases by name of a JUnit file that pytest's xunit2 schema accepts."""
+    JUNIT_SCHEMA.validate(str(report))  # raises, naming the offending element
+    if shutil.which("xmllint"):  # the tool strict CI setups use, where it is installed
+        checked = subprocess.run(
+            ["xmllint", "--noout", "--schema", str(JUNIT_XSD), str(report)],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        assert checked.returncode == 0, checked.stderr
+    return {case.get("name") or "": case for case in ET.parse(report).getroot().iter("testcase")}
+
+
+def _facts(case: ET.Element) -> dict[str, str]:
+    (out,) = case.findall("system-out")
+    return dict(line.split(": ", 1) for line in (out.text or "").splitlines())
+
+
+def test_junitxml_is_valid_xunit2_names_each_item_and_records_its_run(
+    pytester: pytest.Pytester,
+) -> None:
     _copy(pytester, "walls_go_to_goal")
     _impossible(pytester)
     (pytester.path / "broken.yaml").write_text(BROKEN)
+    (pytester.path / "missions").mkdir()
+    for name in ("walls_go_to_goal.yaml", "too_fast.yaml", "broken.yaml"):
+        (pytester.path / name).rename(pytester.path / "missions" / name)
     report = pytester.path / "report.xml"
     result = _run(pytester, f"--junitxml={report}", "--baobab-seed", "7")
     result.assert_outcomes(passed=1, failed=1, errors=1)
-    cases = {case.get("name"): case for case in ET.parse(report).getroot().iter("testcase")}
+    cases = _valid_junit(report)
     assert set(cases) == {"walls_go_to_goal", "too_fast", "broken"}
+    assert {case.get("classname") for case in cases.values()} == {"missions"}
     assert cases["too_fast"].find("failure") is not None
     assert cases["broken"].find("error") is not None
-    properties = {p.get("name"): p.get("value") for p in cases["walls_go_to_goal"].iter("property")}
-    assert properties["seed"] == "7"
-    assert re.fullmatch(r"[0-9a-f]{64}", properties["trace_digest"] or "")
-    assert (Path(properties["run_folder"] or "") / "trace.jsonl").is_file()
+    facts = _facts(cases["walls_go_to_goal"])
+    assert list(facts) == ["result", "sim_time", "trace_digest", "seed", "baseline", "run_folder"]
+    assert (facts["result"], facts["seed"], facts["baseline"]) == ("SUCCEEDED", "7", "none")
+    assert float(facts["sim_time"]) > 5.0
+    assert re.fullmatch(r"[0-9a-f]{64}", facts["trace_digest"])
+    assert (Path(facts["run_folder"]) / "trace.jsonl").is_file()
+    assert _facts(cases["too_fast"])["result"] == "SUCCEEDED"  # as intended it was not: too slow
 
 
 def test_the_seed_option_is_checked(pytester: pytest.Pytester) -> None:
@@ -150,9 +184,16 @@ def test_the_seed_option_is_checked(pytester: pytest.Pytester) -> None:
 def test_missions_run_under_xdist(pytester: pytest.Pytester) -> None:
     _copy(pytester, "walls_go_to_goal")
     _impossible(pytester)
-    result = pytester.runpytest_subprocess(*QUIET, "-n", "2")
+    report = pytester.path / "report.xml"
+    result = pytester.runpytest_subprocess(*QUIET, "-n", "2", f"--junitxml={report}")
     result.assert_outcomes(passed=1, failed=1)
     result.stdout.fnmatch_lines(["*2 workers*", "*max_sim_time*NO*", "*run folder: *"])
+    cases = _valid_junit(report)  # the facts came from the workers
+    assert {name: _facts(case)["seed"] for name, case in cases.items()} == {
+        "walls_go_to_goal": "2",
+        "too_fast": "2",
+    }
+    assert {case.get("classname") for case in cases.values()} == {pytester.path.name}
 
 
 def test_baselines_are_written_then_guard_against_regressions(pytester: pytest.Pytester) -> None:

@@ -458,13 +458,13 @@ def test_btlog_has_the_file_logger2_layout_and_records_only_changes(tmp_path: Pa
         (int.from_bytes(body[i : i + 6], "little"), *struct.unpack_from("<HB", body, i + 6))
         for i in range(0, len(body), 9)
     ]
-    assert records == [
-        (0, 1, 1),
+    assert records == [  # at one instant in tick order, as BT.CPP's FileLogger2 writes them:
+        (0, 1, 1),  # the parent starts RUNNING before it ticks its child,
         (0, 2, 1),
-        (200_000, 2, 2),
+        (200_000, 2, 2),  # siblings in order,
         (200_000, 3, 1),
+        (300_000, 3, 2),  # a child finishes before its parent does
         (300_000, 1, 2),
-        (300_000, 3, 2),
     ]
     with pytest.raises(RecordingError, match=r"suffix \.btlog"):
         BtLogWriter(tmp_path / "run.log", TREE_XML)

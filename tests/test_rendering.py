@@ -1,4 +1,4 @@
-"""Offscreen rendering, the tracking camera, H.264 video, and the viewer's no-display path."""
+"""Offscreen rendering, camera poses, captions, H.264 video, and the viewer's no-display path."""
 
 from __future__ import annotations
 
@@ -10,12 +10,14 @@ import numpy as np
 import pytest
 
 from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
+from baobab.sim.camera import CameraPose
+from baobab.sim.chase_camera import ChaseCamera
 from baobab.sim.rendering import (
     OffscreenRenderer,
     RenderingError,
-    TrackingCamera,
     VideoRecorder,
     VideoWriter,
+    draw_caption,
 )
 from baobab.sim.viewer import NO_DISPLAY_MESSAGE, RealTimePacer, display_available, open_viewer
 from baobab.sim.world import load_world
@@ -27,7 +29,7 @@ def test_video_of_a_moving_turtlebot3_reads_back_as_h264(tmp_path: Path) -> None
     sim, robot = build_turtlebot3_sim(load_world("walls"), seed=0)
     robot.base.command(0.2, 0.8)
     path = tmp_path / "run.mp4"
-    video = VideoRecorder(sim, path, TrackingCamera(BASE), fps=10, width=160, height=120)
+    video = VideoRecorder(sim, path, ChaseCamera(BASE), fps=10, width=160, height=120)
     sim.step_for(1.0)
     video.close()
     video.close()  # idempotent
@@ -53,9 +55,7 @@ def test_frames_land_on_the_nearest_step_when_the_period_is_not_whole_steps(
     sim, _ = build_turtlebot3_sim(load_world("walls"), seed=0)
     sim.step_for(0.1)
     # 1/30 s is 6.67 physics steps of 5 ms: frame k is due at step 20 + round(k * 200 / 30).
-    video = VideoRecorder(
-        sim, tmp_path / "v.mp4", TrackingCamera(BASE), fps=30, width=32, height=24
-    )
+    video = VideoRecorder(sim, tmp_path / "v.mp4", ChaseCamera(BASE), fps=30, width=32, height=24)
     sim.step_for(0.5)
     video.close()
     expected = [(20 + round(k * 200 / 30)) * sim.physics_dt for k in range(15)]
@@ -63,28 +63,41 @@ def test_frames_land_on_the_nearest_step_when_the_period_is_not_whole_steps(
     assert video.frames_written == 15
 
 
-def test_tracking_camera_looks_at_the_robot_and_robot_geoms_are_drawn() -> None:
+def test_the_renderer_looks_from_the_pose_it_is_given_and_draws_robot_geoms() -> None:
     sim, robot = build_turtlebot3_sim(load_world("walls"), seed=0)
     robot.base.command(0.22, 0.0)
     sim.step_for(1.0)
-    with OffscreenRenderer(sim.model, TrackingCamera(BASE), width=80, height=60) as renderer:
-        with_robot = renderer.render(sim.data)
-        body = sim.data.body(BASE)
-        np.testing.assert_allclose(renderer.camera.lookat, sim.data.subtree_com[body.id])
+    x, y, z = (float(v) for v in sim.data.subtree_com[sim.model.body(BASE).id])
+    pose = CameraPose((x, y, z), 1.0, 135.0, -35.0)
+    with OffscreenRenderer(sim.model, width=80, height=60) as renderer:
+        with_robot = renderer.render(sim.data, pose)
+        np.testing.assert_allclose(renderer.camera.lookat, (x, y, z))
         assert renderer.option.geomgroup[3] == 1
-    with OffscreenRenderer(
-        sim.model, TrackingCamera(BASE), width=80, height=60, geom_groups=(0, 1, 2)
-    ) as renderer:
-        without_robot = renderer.render(sim.data)
-    # The robot sits in the middle of a tracked view: hiding group 3 changes the centre.
+    with OffscreenRenderer(sim.model, width=80, height=60, geom_groups=(0, 1, 2)) as renderer:
+        without_robot = renderer.render(sim.data, pose)
+    # The robot sits in the middle of the view: hiding group 3 changes the centre.
     centre = np.s_[20:40, 30:50]
     assert np.abs(with_robot[centre].astype(int) - without_robot[centre].astype(int)).mean() > 5
+
+
+def test_a_caption_is_written_bottom_left_and_cut_to_the_frame() -> None:
+    frame = np.full((240, 320, 3), 200, dtype=np.uint8)
+    captioned = draw_caption(frame, ["t = 1.50 s", "task: go_to_goal " + "x" * 200])
+    changed = np.abs(captioned.astype(int) - frame.astype(int)).max(axis=2) > 0
+    rows, columns = np.nonzero(changed)
+    assert rows.min() > 240 // 2 and rows.max() == 239  # a band at the bottom
+    assert columns.min() == 0 and 300 < columns.max() < 320  # the long line is cut to fit
+    band = captioned[rows.min() :, :]
+    assert (band.max(axis=2) > 150).mean() > 0.02  # light text
+    assert (band.max(axis=2) < 110).mean() > 0.5  # on a dark band
+    assert draw_caption(frame, []) is frame
 
 
 def test_rendering_rejects_bad_input(tmp_path: Path) -> None:
     sim, _ = build_turtlebot3_sim(load_world("walls"), seed=0)
     with pytest.raises(RenderingError, match="no body named 'ghost'"):
-        OffscreenRenderer(sim.model, TrackingCamera("ghost"))
+        VideoRecorder(sim, tmp_path / "ghost.mp4", ChaseCamera("ghost"))
+    assert not (tmp_path / "ghost.mp4").exists()
     with pytest.raises(RenderingError, match="even"):
         VideoWriter(tmp_path / "odd.mp4", width=161, height=120)
     with pytest.raises(RenderingError, match="fps"):

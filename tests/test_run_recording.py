@@ -97,6 +97,24 @@ def stamp_ns(timestamp: Any) -> int:
     return int(timestamp.seconds) * 1_000_000_000 + int(timestamp.nanos)
 
 
+def planar(position: Any, orientation: Any) -> tuple[float, float, float]:
+    """(x, y, yaw) of a decoded position and quaternion (m, rad)."""
+    yaw = math.atan2(
+        2 * (orientation.w * orientation.z + orientation.x * orientation.y),
+        1 - 2 * (orientation.y**2 + orientation.z**2),
+    )
+    return position.x, position.y, yaw
+
+
+def compose(
+    a: tuple[float, float, float], b: tuple[float, float, float]
+) -> tuple[float, float, float]:
+    """Planar pose ``b`` (in ``a``'s frame) in the frame ``a`` is given in."""
+    cos, sin = math.cos(a[2]), math.sin(a[2])
+    yaw = math.remainder(a[2] + b[2], math.tau)
+    return a[0] + cos * b[0] - sin * b[1], a[1] + sin * b[0] + cos * b[1], yaw
+
+
 def mission_file(tmp_path: Path, body: str, name: str) -> Path:
     path = tmp_path / name
     path.write_text(HEADER + body, encoding="utf-8")
@@ -159,6 +177,19 @@ def test_a_recorded_and_filmed_go_to_goal_run_is_the_same_run(
         ("odom", "base_link"),
     ]
     assert math.hypot(tf[1].translation.x - last.x, tf[1].translation.y - last.y) < 0.05
+    # One robot, not two: map -> odom corrects the odometry, so map -> odom -> base_link is the
+    # ground truth (/robot_pose, where the model and the scan are drawn) at every stamp, while
+    # odom -> base_link keeps the odometry's drift.
+    truth = {t: planar(m.pose.position, m.pose.orientation) for t, m in messages["/robot_pose"]}
+    start = messages["/tf"][0][1].transforms[0]
+    first_map_odom = planar(start.translation, start.rotation)
+    drift = []
+    for t, message in messages["/tf"]:
+        map_odom, odom_base = (planar(f.translation, f.rotation) for f in message.transforms)
+        np.testing.assert_allclose(compose(map_odom, odom_base), truth[t], rtol=0, atol=1e-9)
+        x, y, _ = compose(first_map_odom, odom_base)
+        drift.append(math.hypot(x - truth[t][0], y - truth[t][1]))
+    assert len(drift) == 294 and max(drift) > 0.002  # 4.5 mm in this run
     statuses = messages["/behavior_tree/status"]
     times = [t for t, _ in statuses]  # on each change, at least once a second, at the end
     assert times[0] == 0 and max(np.diff(times)) <= 1_000_000_000 and times[-1] == end_ns
@@ -189,7 +220,8 @@ def test_a_recorded_and_filmed_go_to_goal_run_is_the_same_run(
         for i in range(0, len(body), 9)
     ]
     end_us = round(result["sim_time"] * 1e6)
-    assert records == [(0, 1, 1), (0, 2, 1), (end_us, 1, 2), (end_us, 2, 2)]
+    # the Timeout starts RUNNING before its child does, and finishes after it, as in BT.CPP
+    assert records == [(0, 1, 1), (0, 2, 1), (end_us, 2, 2), (end_us, 1, 2)]
 
 
 def test_a_navigation_run_records_its_plans_and_costmap(
@@ -250,7 +282,8 @@ def test_a_panda_run_records_the_impedance_poses_and_plots_the_tracking_error(
     assert current[-1] - current[0] == pytest.approx(0.05, abs=0.01)
     joints = messages["/joint_states"][-1][1].joints
     assert [j.name for j in joints][:2] == ["panda/joint1", "panda/joint2"] and len(joints) == 9
-    ((_, tf),) = messages["/tf"]
+    assert "/tf" not in messages
+    ((_, tf),) = messages["/tf_static"]  # at 0 s; again every second
     assert tf.transforms[0].child_frame_id == "panda/link0"
     assert {"cube", "panda/hand"} <= {e.id for e in messages["/scene"][0][1].entities}
 

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import pytest
 
 from baobab.missions.cli import main
-from baobab.missions.teleop_command import TICK, TeleopSession, TeleopStatus, drive
+from baobab.missions.teleop_command import TICK, TeleopSession, TeleopStatus, drive, help_text
 from baobab.robots.turtlebot3.teleop import LAYOUTS
 from baobab.robots.turtlebot3.teleop_terminal import RawTerminal, TerminalKeys
 from baobab.sim.tasks import TaskStatus
@@ -40,6 +40,8 @@ STARTUP = 60.0
 """s: bound on the UI's first status line (imports, model build; numba caches when cold)."""
 REACTION = 20.0
 """s: bound on the screen showing the effect of a key (it takes well under a second)."""
+COLUMNS = 110
+"""The pseudo-terminal's width: the one-line banner (120 characters in walls) does not fit."""
 
 
 def _session(hold: float = 0.4) -> TeleopSession:
@@ -78,6 +80,16 @@ def test_the_status_line_fits_the_terminal() -> None:
     )
     assert STATUS.fullmatch(line)
     assert len(status.line(40)) == 39
+
+
+@pytest.mark.parametrize("width", [COLUMNS, 80, 40])
+def test_the_banner_wraps_at_spaces_to_fit_the_terminal(width: int) -> None:
+    keys = TerminalKeys(LAYOUTS["wasd"])
+    whole = help_text(keys, "walls", 200)
+    assert "\n" not in whole and len(whole) > COLUMNS
+    lines = help_text(keys, "walls", width).split("\n")
+    assert len(lines) > 1 and max(map(len, lines)) < width
+    assert " ".join(lines) == whole  # broken at spaces only
 
 
 @dataclass
@@ -121,15 +133,17 @@ class Screen:
 
     def __init__(self, *args: str) -> None:
         self.master, self.slave = os.openpty()
-        fcntl.ioctl(self.slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 120, 0, 0))
+        fcntl.ioctl(self.slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, COLUMNS, 0, 0))
         self.settings = termios.tcgetattr(self.slave)
         command = "from baobab.missions.cli import main; raise SystemExit(main())"
+        env = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES")}
         self.process = subprocess.Popen(
             [sys.executable, "-c", command, "teleop", "--world", "walls", *args],
             stdin=self.slave,
             stdout=self.slave,
             stderr=self.slave,
             start_new_session=True,
+            env=env,  # the terminal's own size, not one a parent shell exported
         )
         self.text = ""
 
@@ -187,7 +201,9 @@ def test_the_terminal_ui_drives_stops_and_quits() -> None:
 
 def _drive_stop_quit(screen: Screen) -> None:
     first = screen.wait_for(lambda s: True, STARTUP)
-    assert screen.text.startswith("baobab teleop: walls, assisted teleop on. w/s forward/back")
+    banner = screen.text.partition("\x1b[?25l")[0].split("\r\n")[:-1]
+    whole = help_text(TerminalKeys(LAYOUTS["wasd"], hold_time=30.0), "walls", 200)
+    assert " ".join(banner) == whole and max(map(len, banner)) < COLUMNS
     assert (first["x"], first["keys"]) == ("+0.00", "-")
     assert termios.tcgetattr(screen.slave)[3] & termios.ECHO == 0  # raw while it runs
     screen.type("w")

@@ -18,8 +18,9 @@ from typing import TYPE_CHECKING
 from baobab.sim.lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
-    from baobab.robots.panda.arm_server import ArmErrorCode, ArmServer, ArmServerConfig
+    from baobab.robots.panda.arm_server import ArmServer, ArmServerConfig
     from baobab.robots.panda.errors import (
+        ArmErrorCode,
         GainsError,
         GripperCommandError,
         PandaSceneError,
@@ -42,7 +43,7 @@ if TYPE_CHECKING:
     )
 
 _EXPORTS = {
-    "ArmErrorCode": "baobab.robots.panda.arm_server",
+    "ArmErrorCode": "baobab.robots.panda.errors",
     "ArmServer": "baobab.robots.panda.arm_server",
     "ArmServerConfig": "baobab.robots.panda.arm_server",
     "CartesianImpedanceController": "baobab.robots.panda.impedance",

@@ -13,7 +13,6 @@ the world frame with quaternions x, y, z, w; the controller works in the base (l
 
 from __future__ import annotations
 
-import enum
 import math
 import weakref
 from dataclasses import dataclass
@@ -25,7 +24,7 @@ from scipy.spatial.transform import Rotation
 
 from baobab.robots.panda import native_loop
 from baobab.robots.panda.arm_kernel import ARM_LOOP, GripperEnd, MotionEnd
-from baobab.robots.panda.errors import GripperCommandError, TrajectoryGoalError
+from baobab.robots.panda.errors import ArmErrorCode, GripperCommandError, TrajectoryGoalError
 from baobab.robots.panda.gripper import MIN_GRASP_WIDTH, OPENING_SPEED, STALL_SPEED, Gripper
 from baobab.robots.panda.impedance import CartesianImpedanceController, ImpedanceGains
 from baobab.robots.panda.model import (
@@ -62,18 +61,6 @@ REACH = 0.855 + 0.1034
 
 MAX_MOTION_DURATION = 600.0
 """Longest motion accepted (s); the trajectory is sampled up front at the control period."""
-
-
-class ArmErrorCode(enum.IntEnum):
-    """Why an arm task failed (``TaskOutcome.error_code``)."""
-
-    NONE = 0
-    GOAL_UNREACHABLE = 1
-    TRACKING_LOST = 2
-    GOAL_NOT_REACHED = 3
-    GRASP_FAILED = 4
-    GRIPPER_BLOCKED = 5
-    GRIPPER_TIMEOUT = 6
 
 
 @dataclass(frozen=True)

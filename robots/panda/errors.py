@@ -1,6 +1,8 @@
-"""Errors raised for mistakes in what users ask of the Panda."""
+"""Errors raised for mistakes in what users ask of the Panda, and the codes of failed arm tasks."""
 
 from __future__ import annotations
+
+import enum
 
 from baobab.sim.errors import BaobabError
 
@@ -27,3 +29,15 @@ class GainsError(BaobabError, ValueError):
 
 class PandaModelError(BaobabError, ValueError):
     """A robot model the Panda's controller cannot drive (e.g. a TCP moved by the fingers)."""
+
+
+class ArmErrorCode(enum.IntEnum):
+    """Why an arm task failed (``TaskOutcome.error_code``)."""
+
+    NONE = 0
+    GOAL_UNREACHABLE = 1
+    TRACKING_LOST = 2
+    GOAL_NOT_REACHED = 3
+    GRASP_FAILED = 4
+    GRIPPER_BLOCKED = 5
+    GRIPPER_TIMEOUT = 6

@@ -27,6 +27,7 @@ from baobab.robots.panda.model import (
     PANDA_XML,
 )
 from baobab.robots.panda.pose import Pose
+from baobab.sim.camera import CameraPose, framing, geom_box_corners
 from baobab.sim.simulation import Simulation
 
 PANDA_TABLE_XML = Path(baobab.sim.__file__).parent / "worlds" / "panda_table.xml"
@@ -55,6 +56,12 @@ CUBE_HALF_SIZE = 0.025
 
 TABLE_HEIGHT = 0.5
 """Height of the table top (m)."""
+
+VIDEO_AZIMUTH = 140.0
+"""The video looks at the arm from the front left, across the table (deg)."""
+
+VIDEO_ELEVATION = -40.0
+"""The video looks down on the table top, steeply enough that the floor fills the back (deg)."""
 
 CUBE_REGION = ((0.35, 0.60), (-0.25, 0.05))
 """Where seeded cubes appear: (x range, y range) in the world frame (m). The arm's base is at
@@ -149,6 +156,27 @@ def build_panda_sim(
 def place_target(sim: Simulation) -> np.ndarray:
     """World position of the place-target marker on the table top (m)."""
     return sim.data.site(PLACE_TARGET_SITE).xpos.copy()
+
+
+def video_view(sim: Simulation, aspect: float) -> CameraPose:
+    """The video's fixed 3/4 view: the table top and the arm as it stands now fill the frame.
+
+    Args:
+        sim: the scene in its start state (the arm then works below its start pose).
+        aspect: frame width over height.
+    """
+    model = sim.model
+    base = model.body(PREFIX + BASE_BODY).id
+    arm = [g for g in range(model.ngeom) if model.body_rootid[model.geom_bodyid[g]] == base]
+    table = geom_box_corners(model, sim.data, [model.geom(TABLE_GEOM).id])
+    table_top = table[table[:, 2] >= table[:, 2].max() - 1e-9]
+    return framing(
+        np.concatenate([table_top, geom_box_corners(model, sim.data, arm)]),
+        azimuth=VIDEO_AZIMUTH,
+        elevation=VIDEO_ELEVATION,
+        fovy=float(model.vis.global_.fovy),
+        aspect=aspect,
+    )
 
 
 def cube_pose(sim: Simulation) -> Pose:

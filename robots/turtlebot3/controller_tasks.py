@@ -13,11 +13,11 @@ so a run that never asks for them adds no callbacks to the simulation.
 
 from __future__ import annotations
 
-import enum
 from dataclasses import dataclass
 
 from baobab.robots.turtlebot3.base import DiffDriveBase
 from baobab.robots.turtlebot3.bug2 import Bug2Controller, Bug2Params
+from baobab.robots.turtlebot3.controller_errors import BaseControllerError
 from baobab.robots.turtlebot3.go_to_goal import (
     GoToGoalController,
     GoToGoalParams,
@@ -27,14 +27,6 @@ from baobab.sim.lidar import Lidar
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D
-
-
-class BaseControllerError(enum.IntEnum):
-    """Why a base-controller task failed (``TaskOutcome.error_code``; 8xx, unused by Nav2)."""
-
-    NONE = 0
-    UNKNOWN = 800
-    FAILED_TO_MAKE_PROGRESS = 801
 
 
 @dataclass(frozen=True)
