@@ -143,6 +143,7 @@ class RecordingHook:
         self._last_statuses: list[py_trees.common.Status] = []
         self._closed = False
         self._failures: dict[str, str] = {}  # output -> why it stopped early
+        self._warn = warn
         try:
             if options.record is not None or options.live:
                 self._start_recorder(rig, warn)
@@ -155,6 +156,16 @@ class RecordingHook:
         except BaseException:
             self.close()
             raise
+
+    def _stopper(self, output: str, flag: str) -> Callable[[str], None]:
+        """What to call when the disk refuses ``output``: one line, and the run goes on."""
+        path = getattr(self.options, {"mcap": "record"}.get(output, output))
+
+        def stopped(reason: str) -> None:
+            self._failures[output] = reason
+            self._warn(f"{flag} {path}: {reason}; stopped, no file kept, the run goes on")
+
+        return stopped
 
     @property
     def needs_pacing(self) -> bool:
@@ -177,13 +188,7 @@ class RecordingHook:
         )
         sinks: list[Sink] = [] if live is None else [live]
         if options.record is not None:
-            path = options.record
-
-            def stopped(reason: str) -> None:
-                self._failures["mcap"] = reason
-                warn(f"--record {path}: {reason}; recording stopped, no file kept, the run goes on")
-
-            sinks.append(McapSink(path, on_failure=stopped))
+            sinks.append(McapSink(options.record, on_failure=self._stopper("mcap", "--record")))
         origin = time.time_ns() if options.live else 0
         self._recorder = recorder = Recorder(sinks, time_origin_ns=origin)
         if live is not None:
@@ -200,7 +205,12 @@ class RecordingHook:
         xml = to_btcpp_log(self.compiled.mission)
         if xml.count(' _uid="') != len(self._nodes):  # one behaviour per mission node
             raise BaobabError(f"{path}: the tree XML does not match the compiled tree")
-        self._btlog = BtLogWriter(path, xml, start_time_us=time.time_ns() // 1000)
+        self._btlog = BtLogWriter(
+            path,
+            xml,
+            start_time_us=time.time_ns() // 1000,
+            on_failure=self._stopper("btlog", "--btlog"),
+        )
 
     def _start_video(self, rig: Rig, path: Path) -> None:
         from baobab.missions.video_caption import VideoCaption
@@ -215,6 +225,7 @@ class RecordingHook:
             width=width,
             height=height,
             caption=VideoCaption(self.compiled),
+            on_failure=self._stopper("video", "--video"),
         )
 
     def _start_viewer(self, warn: Callable[[str], None]) -> None:
@@ -317,10 +328,10 @@ class RecordingHook:
             outputs["mcap"] = str(options.record)
         if self._live_url is not None:
             outputs["live"] = self._live_url
-        if options.video is not None and self._video is not None:
+        if options.video is not None and self._video is not None and "video" not in self._failures:
             outputs["video"] = str(options.video)
             outputs["video_frames"] = self._video.frames_written
-        if options.btlog is not None:
+        if options.btlog is not None and "btlog" not in self._failures:
             outputs["btlog"] = str(options.btlog)
         if self._failures:
             outputs["stopped"] = dict(self._failures)

@@ -15,15 +15,17 @@ reads the tree's shape from it to order the records of one instant as a tick mak
 from __future__ import annotations
 
 import enum
+import io
 import itertools
 import math
 import struct
 import xml.etree.ElementTree as ET
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import BinaryIO
 
 from baobab.sim.closable import Closable
+from baobab.sim.output_file import OutputFile
 from baobab.sim.recording_sinks import RecordingError
 
 MAGIC = b"BTCPP4-FileLogger2"
@@ -58,14 +60,24 @@ class BtLogWriter(Closable):
         tree_xml: BehaviorTree.CPP v4 XML with ``_uid`` on every node.
         start_time_us: the first timestamp (microseconds since the epoch); sim time ``t``
             is written at ``start_time_us + t * 1e6``.
+        on_failure: told once why the log stopped when the disk refuses a write (the file is
+            then dropped, nothing stays under its name); without it, :meth:`close` raises.
 
     Raises:
         RecordingError: for another suffix, tree XML that does not parse, or a file that
             cannot be opened.
     """
 
-    def __init__(self, path: str | Path, tree_xml: str, *, start_time_us: int = 0) -> None:
+    def __init__(
+        self,
+        path: str | Path,
+        tree_xml: str,
+        *,
+        start_time_us: int = 0,
+        on_failure: Callable[[str], None] | None = None,
+    ) -> None:
         self.path = Path(path)
+        self._on_failure = on_failure
         if self.path.suffix != ".btlog":
             raise RecordingError(f"{self.path}: a Groot2 log needs the suffix .btlog")
         try:
@@ -73,9 +85,10 @@ class BtLogWriter(Closable):
         except ET.ParseError as error:
             raise RecordingError(f"{self.path}: the tree XML does not parse: {error}") from error
         try:
-            self._file: BinaryIO | None = self.path.open("wb")
+            self._output = OutputFile(self.path, on_failure)  # disk full: stops, run goes on
         except OSError as error:
             raise RecordingError(f"{self.path}: cannot write the tree log: {error}") from error
+        self._file: BinaryIO | None = io.BufferedWriter(self._output)
         xml = tree_xml.encode("utf-8")
         self._file.write(MAGIC + struct.pack("<Bi", PROTOCOL, len(xml)) + xml)
         self._file.write(struct.pack("<q", start_time_us))
@@ -123,10 +136,17 @@ class BtLogWriter(Closable):
         return (entered if status == BtStatus.RUNNING else left), uid
 
     def close(self) -> None:
-        """Finish the file (idempotent)."""
+        """Finish the file (idempotent).
+
+        Raises:
+            RecordingError: writing failed on the way (disk full) and nobody was told.
+        """
         if self._file is not None:
             self._file.close()
             self._file = None
+            if self._output.failure is not None and self._on_failure is None:
+                reason = self._output.failure
+                raise RecordingError(f"{self.path}: cannot write the tree log: {reason}")
 
 
 def tick_places(tree_xml: str) -> dict[int, tuple[float, float]]:

@@ -15,6 +15,10 @@ import io
 import os
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from _typeshed import ReadableBuffer
 
 
 class OutputFile(io.RawIOBase):
@@ -22,13 +26,14 @@ class OutputFile(io.RawIOBase):
 
     Args:
         path: the final file (replaced, if it exists, when this one is complete).
-        on_failure: told once, in words, why writing stopped (e.g. "No space left on device").
+        on_failure: told once, in words, why writing stopped (e.g. "No space left on device");
+            without it, the owner reads :attr:`failure` after :meth:`close`.
 
     Raises:
         OSError: the temporary file cannot be created.
     """
 
-    def __init__(self, path: str | Path, on_failure: Callable[[str], None]) -> None:
+    def __init__(self, path: str | Path, on_failure: Callable[[str], None] | None = None) -> None:
         super().__init__()
         self.path = Path(path)
         self.temporary = self.path.with_name(f".{self.path.name}.tmp-{os.getpid()}")
@@ -43,7 +48,7 @@ class OutputFile(io.RawIOBase):
     def seekable(self) -> bool:
         return True
 
-    def write(self, data: bytes | bytearray | memoryview) -> int:  # type: ignore[override]
+    def write(self, data: ReadableBuffer, /) -> int:
         """Write ``data`` (or drop it, once writing has failed); returns its length."""
         size = len(memoryview(data).cast("B"))
         if self._file is not None:
@@ -115,4 +120,5 @@ class OutputFile(io.RawIOBase):
         self.temporary.unlink(missing_ok=True)
         if self.failure is None:
             self.failure = error.strerror or str(error)
-            self._on_failure(self.failure)
+            if self._on_failure is not None:
+                self._on_failure(self.failure)

@@ -37,6 +37,7 @@ from baobab.sim.camera import ALL_GEOM_GROUPS, CameraOperator, CameraPose, Still
 from baobab.sim.chase_camera import ChaseCamera, ChaseOperator
 from baobab.sim.closable import Closable
 from baobab.sim.errors import RenderingError
+from baobab.sim.output_file import OutputFile
 from baobab.sim.simulation import PeriodicHandle, Simulation
 
 __all__ = [
@@ -204,6 +205,8 @@ class VideoWriter:
         width: frame width (pixels, even: yuv420p halves the chroma resolution).
         height: frame height (pixels, even).
         crf: x264 constant rate factor: 18 near lossless, 23 default, higher is smaller.
+        on_failure: told once why filming stopped when the disk refuses a write (the file is
+            then dropped, nothing stays under its name); without it, :meth:`close` raises.
 
     Raises:
         RenderingError: for odd or non-positive sizes, a non-positive fps, a missing folder or
@@ -211,7 +214,14 @@ class VideoWriter:
     """
 
     def __init__(
-        self, path: str | Path, *, fps: int = 30, width: int = 640, height: int = 480, crf: int = 23
+        self,
+        path: str | Path,
+        *,
+        fps: int = 30,
+        width: int = 640,
+        height: int = 480,
+        crf: int = 23,
+        on_failure: Callable[[str], None] | None = None,
     ) -> None:
         if width <= 0 or height <= 0 or width % 2 or height % 2:
             raise RenderingError(f"video size must be positive and even, got {width}x{height}")
@@ -226,7 +236,13 @@ class VideoWriter:
             raise RenderingError("video needs PyAV: pip install 'baobab[video]'") from error
         self.width, self.height, self.fps = width, height, fps
         self.frames_written = 0
-        self._container: Any = av.open(str(self.path), mode="w")
+        self._on_failure = on_failure
+        self._file = OutputFile(self.path, on_failure)  # disk full: stops, the run goes on
+        try:
+            self._container: Any = av.open(self._file, mode="w", format="mp4")
+        except BaseException:
+            self._file.discard()
+            raise
         self._stream: Any = self._container.add_stream("libx264", rate=fps)
         self._stream.width, self._stream.height = width, height
         self._stream.pix_fmt = "yuv420p"
@@ -253,6 +269,9 @@ class VideoWriter:
             self._container.mux(self._stream.encode(None))
             self._container.close()
             self._container = None
+            self._file.close()
+            if self._file.failure is not None and self._on_failure is None:
+                raise RenderingError(f"{self.path}: cannot write video: {self._file.failure}")
 
 
 class FrameClock:
@@ -311,6 +330,8 @@ class VideoRecorder:
         width: frame width (pixels, even).
         height: frame height (pixels, even).
         caption: what the run is doing, asked at every frame (e.g. the task and its goal).
+        on_failure: told once why filming stopped if the disk refuses a write (see
+            :class:`VideoWriter`).
     """
 
     def __init__(
@@ -323,11 +344,12 @@ class VideoRecorder:
         width: int = 640,
         height: int = 480,
         caption: Caption | None = None,
+        on_failure: Callable[[str], None] | None = None,
     ) -> None:
         self._sim = sim
         self._operator = camera_operator(sim.model, camera)
         self._caption = caption
-        self._writer = VideoWriter(path, fps=fps, width=width, height=height)
+        self._writer = VideoWriter(path, fps=fps, width=width, height=height, on_failure=on_failure)
         try:
             self._renderer = OffscreenRenderer(sim.model, width=width, height=height)
         except BaseException:

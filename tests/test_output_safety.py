@@ -357,6 +357,30 @@ def test_a_recording_that_fills_the_disk_stops_once_and_leaves_no_file(tmp_path:
     assert reasons == ["No space left on device"]
 
 
+def test_a_video_or_tree_log_on_a_full_disk_raises_at_close_when_nobody_listens(
+    tmp_path: Path,
+) -> None:
+    import numpy as np
+
+    from baobab.sim.btlog import BtLogWriter, BtStatus
+    from baobab.sim.errors import BaobabError
+    from baobab.sim.rendering import VideoWriter
+
+    with tmpfs(tmp_path / "disk", 64) as disk:
+        video = VideoWriter(disk / "x.mp4", width=320, height=240)
+        noise = np.random.default_rng(7).integers(0, 255, (60, 240, 320, 3), dtype=np.uint8)
+        for frame in noise:  # noise does not compress: well over 64 KiB
+            video.write(frame)
+        with pytest.raises(BaobabError, match=r"x\.mp4: cannot write video: No space left"):
+            video.close()
+        fill(disk)
+        log = BtLogWriter(disk / "x.btlog", '<root BTCPP_format="4"/>')
+        log.transition(0.0, 1, BtStatus.RUNNING)
+        with pytest.raises(BaobabError, match=r"x\.btlog: cannot write the tree log: No space"):
+            log.close()
+        assert sorted(p.name for p in disk.iterdir()) == ["filler", "filler-tail"]
+
+
 def test_a_complete_recording_appears_under_its_name_only_when_closed(tmp_path: Path) -> None:
     path = tmp_path / "run.mcap"
     file = OutputFile(path, on_failure=pytest.fail)
@@ -371,25 +395,37 @@ def test_a_complete_recording_appears_under_its_name_only_when_closed(tmp_path: 
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run.mcap"] and not temporary.exists()
 
 
-def test_record_on_a_disk_that_fills_during_the_run_warns_once_and_the_run_goes_on(
+def test_recordings_on_a_disk_that_fills_during_the_run_stop_once_and_the_run_goes_on(
     tmp_path: Path,
 ) -> None:
+    # Each output either stops (one line, no file) or, when the room another one freed by
+    # stopping lets it, is finished whole: never a partial file, never a lost run.
+    files = {"--record": ("run.mcap", "mcap"), "--video": ("run.mp4", "video")}
+    files["--btlog"] = ("run.btlog", "btlog")
     with tmpfs(tmp_path / "disk", ROOMY_KIB) as disk:
-        recording = disk / "run.mcap"
         out = tmp_path / "run"
-        arguments = ["--realtime", "--json", "--out", str(out), "--record", str(recording)]
+        arguments = ["--realtime", "--json", "--out", str(out)]
+        for flag, (name, _) in files.items():
+            arguments += [flag, str(disk / name)]
         run = Process("run", str(_mission(tmp_path, 2)), *arguments)
         run.await_line("t=")
         fill(disk)
         code, stdout, err = run.finish()
-        assert sorted(p.name for p in disk.iterdir()) == ["filler", "filler-tail"]
-    stopped = f"baobab run: --record {recording}: No space left on device; recording stopped"
+        kept = sorted(p.name for p in disk.iterdir() if not p.name.startswith("filler"))
     assert code == 0
-    assert err.count(stopped) == 1 and "Traceback" not in err and "error logging" not in err
+    assert "Traceback" not in err and "error logging" not in err
     result = json.loads(stdout)
-    assert result["result"] == "SUCCEEDED"
-    assert result["recording"] == {"stopped": {"mcap": "No space left on device"}}
-    assert _complete(out) == result
+    assert result["result"] == "SUCCEEDED" and _complete(out) == result
+    recording = result["recording"]
+    full = "No space left on device"
+    for flag, (name, key) in files.items():
+        line = f"baobab run: {flag} {disk / name}: {full}; stopped, no file kept"
+        if name in kept:
+            assert key in recording and line not in err
+        else:
+            assert recording["stopped"][key] == full and err.count(line) == 1
+    assert recording["stopped"]  # the disk was full: something had to stop
+    assert len(kept) + len(recording["stopped"]) == len(files)
 
 
 def test_write_run_folder_on_a_full_disk_leaves_nothing_behind(tmp_path: Path) -> None:

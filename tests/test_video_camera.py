@@ -74,6 +74,7 @@ class SightCheck:
         width: int,
         height: int,
         caption: Caption | None = None,
+        on_failure: Callable[[str], None] | None = None,  # writes no file: never fails
     ) -> None:
         assert isinstance(camera, ChaseCamera)
         self.sim = sim
@@ -263,6 +264,7 @@ class ArmCheck:
         width: int,
         height: int,
         caption: Caption,
+        on_failure: Callable[[str], None] | None = None,  # writes no file: never fails
     ) -> None:
         assert isinstance(camera, CameraPose)
         model = sim.model
