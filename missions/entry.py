@@ -6,27 +6,47 @@ command is still starting gives exit 130 and no traceback. Then the standard str
 safe (:mod:`baobab.missions.streams`), and only then the command line
 (:mod:`baobab.missions.cli`) is imported and run; a command that must tidy up on the way out
 (or ``baobab run``, once its run starts) handles the signals its own way.
+
+When the command is done, the process leaves at once (:func:`_leave`): the interpreter's own
+teardown resets the signal handlers to the system's defaults, and a SIGTERM in that last
+fraction of a second would kill the process instead of ending it with exit 143.
 """
 
 from __future__ import annotations
 
+import contextlib
+import os
 import signal
+import sys
+from typing import NoReturn
 
-from baobab.missions.interrupts import exit_code_for, exit_on_signals
+from baobab.missions.interrupts import HANDLED, exit_code_for, exit_on_signals, exits_at_once
 
 exit_on_signals()
 
 
 def main() -> int:
-    """Run the ``baobab`` command line on ``sys.argv``; returns the exit code."""
+    """Run the ``baobab`` command line on ``sys.argv``; returns (or exits with) the exit code."""
     from baobab.missions.streams import guard_standard_streams
 
     guard_standard_streams()
     from baobab.missions.cli import main as command_line
 
     try:
-        return command_line()
+        code = command_line()
     except KeyboardInterrupt:
-        return exit_code_for(signal.SIGINT)
-    finally:
-        exit_on_signals()
+        code = exit_code_for(signal.SIGINT)
+    if not exits_at_once():  # a command that unwinds: the interpreter's teardown runs its
+        exit_on_signals()  # clean-ups (atexit), and a signal meanwhile ends it at once
+        return code
+    _leave(code)
+
+
+def _leave(code: int) -> NoReturn:
+    """Flush the streams and exit with ``code``, or ``128 + signal`` if one came meanwhile."""
+    signal.pthread_sigmask(signal.SIG_BLOCK, HANDLED)
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    pending = sorted(signal.sigpending() & set(HANDLED))
+    os._exit(exit_code_for(pending[0]) if pending else code)
