@@ -14,13 +14,28 @@ fraction of a second would kill the process instead of ending it with exit 143.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import signal
-import sys
-from typing import NoReturn
 
-from baobab.missions.interrupts import HANDLED, exit_code_for, exit_on_signals, exits_at_once
+
+def _exit_during_start_up(signum: int, _frame: object) -> None:
+    os._exit(128 + signum)  # nothing written yet: nothing to flush
+
+
+# The process's first statements, before any other import (those take a few milliseconds).
+for _signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+    signal.signal(_signum, _exit_during_start_up)
+
+import contextlib  # noqa: E402
+import sys  # noqa: E402
+from typing import NoReturn  # noqa: E402
+
+from baobab.missions.interrupts import (  # noqa: E402
+    HANDLED,
+    exit_code_for,
+    exit_on_signals,
+    exits_at_once,
+)
 
 exit_on_signals()
 
