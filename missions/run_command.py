@@ -268,11 +268,13 @@ def save_run(folder: Path, finished: FinishedRun) -> Path | None:
         Where the folder was written, or None when nowhere (said on stderr); the result's
         ``run_folder`` says the same.
     """
-    from baobab.missions.run_folder import write_run_folder
+    from baobab.missions.run_folder import RunFolderError, write_run_folder
 
     result = finished.result
     try:
         return write_run_folder(folder, result, finished.trace_text, finished.plot)
+    except RunFolderError as error:  # something else wrote into it meanwhile
+        first = f"could not write the run folder: {error}"
     except OSError as error:
         first = f"could not write the run folder {folder}: {error.strerror or error}"
     fallback: Path | None = None

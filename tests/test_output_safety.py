@@ -287,6 +287,25 @@ def test_a_run_folder_the_disk_refuses_after_the_run_goes_to_a_named_fallback(
         )
 
 
+def test_a_run_folder_written_into_by_someone_else_goes_to_a_named_fallback(
+    tmp_path: Path,
+) -> None:
+    fallbacks = tmp_path / "fallbacks"
+    fallbacks.mkdir()
+    out = tmp_path / "run"
+    arguments = ["--realtime", "--json", "--out", str(out)]
+    run = Process("run", str(_mission(tmp_path, 2)), *arguments, env={"TMPDIR": str(fallbacks)})
+    run.await_line("t=")
+    (out / "notes.txt").write_text("not baobab's")
+    code, stdout, err = run.finish()
+    (fallback,) = fallbacks.iterdir()
+    assert code == 0
+    assert f"baobab run: could not write the run folder: {out}: folder is not empty" in err
+    assert f"written to {fallback} instead\n" in err
+    assert _complete(fallback) == json.loads(stdout)
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
+
+
 def test_a_run_that_cannot_be_saved_anywhere_prints_its_result_and_exits_3(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
