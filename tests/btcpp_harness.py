@@ -8,6 +8,7 @@ completion, list the port values each node reads (following ``<SubTree>`` remapp
 from __future__ import annotations
 
 import struct
+import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -135,3 +136,40 @@ def read_btlog(path: Path) -> tuple[str, list[tuple[int, int, int]]]:
         for i in range(0, len(body), 9)
     ]
     return raw[23 : 23 + length].decode(), records
+
+
+LOG_WRITER_TIMEOUT_S = 30.0
+
+
+def finished_btlog(tree: bt.Tree, path: Path) -> bt.NodeStatus:
+    """Tick ``tree`` to completion under a ``FileLogger`` writing ``path``; its final status.
+
+    BT.CPP 4.8's ``FileLogger2`` writes from a thread of its own and drops what that thread has
+    not yet taken from its queue when the logger is destroyed, so a loaded machine loses the
+    last records. This waits (at most :data:`LOG_WRITER_TIMEOUT_S` wall-clock seconds) until
+    the root's (uid 1) final status is on disk; the queue is written in order, so everything
+    before it is too. Under load the same thread sometimes writes a batch twice: read the log
+    with :func:`read_btlog_once`.
+    """
+    logger = bt.FileLogger(tree, str(path))
+    status = tick_to_completion(tree)
+    final = 2 if status == bt.NodeStatus.SUCCESS else 3
+    deadline = time.monotonic() + LOG_WRITER_TIMEOUT_S
+    while True:
+        logger.flush()
+        if path.stat().st_size > 31:
+            _, records = read_btlog(path)
+            if (1, final) in {(uid, status) for _, uid, status in records}:
+                break
+        if time.monotonic() > deadline:
+            raise AssertionError(f"BT.CPP's logger did not write the final status to {path}")
+        time.sleep(0.001)
+    del logger
+    return status
+
+
+def read_btlog_once(path: Path) -> tuple[str, list[tuple[int, int, int]]]:
+    """:func:`read_btlog` up to the root's (uid 1) first final status: one run of the tree."""
+    xml, records = read_btlog(path)
+    end = next(i for i, (_, uid, status) in enumerate(records) if uid == 1 and status in (2, 3))
+    return xml, records[: end + 1]

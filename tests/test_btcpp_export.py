@@ -18,8 +18,10 @@ import pytest
 from btcpp_harness import (
     MAX_TICKS,
     btcpp_tree,
+    finished_btlog,
     instances,
     read_btlog,
+    read_btlog_once,
     read_msec,
     resolved,
     tick_to_completion,
@@ -384,11 +386,8 @@ def test_the_groot2_log_orders_each_instant_as_behaviortree_cpp_file_logger2(
     mission = load_mission(mission_file(tmp_path, LOGGED, "logged"))
     reference_path = tmp_path / "btcpp.btlog"
     tree = btcpp_tree(to_btcpp(mission))
-    logger = bt.FileLogger(tree, str(reference_path))
-    assert tick_to_completion(tree) == bt.NodeStatus.SUCCESS
-    logger.flush()
-    del logger
-    reference_xml, reference = read_btlog(reference_path)
+    assert finished_btlog(tree, reference_path) == bt.NodeStatus.SUCCESS
+    reference_xml, reference = read_btlog_once(reference_path)
 
     ours_path = tmp_path / "baobab.btlog"
     _run_logged(mission, ours_path)
