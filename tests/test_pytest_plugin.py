@@ -15,14 +15,18 @@ import xml.etree.ElementTree as ET
 from importlib import resources
 from pathlib import Path
 
-# matplotlib and baobab.missions.scenario are imported before any inline pytest run:
-# pytester drops the modules an inline run imports when it ends, numpy cannot be imported
-# twice in one process, and importing matplotlib again for every plot would be slow.
+# matplotlib, numpy's extension modules and baobab.missions.scenario are imported before any
+# inline pytest run: pytester drops the modules an inline run imports when it ends, numpy's
+# extension modules cannot be loaded twice in one process (a later test in this worker that
+# imports numpy.fft would fail), and importing matplotlib again for every plot would be slow.
 import matplotlib.backends.backend_agg
 import matplotlib.collections
 import matplotlib.figure
 import matplotlib.patches
 import matplotlib.patheffects  # noqa: F401
+import numpy.fft
+import numpy.linalg
+import numpy.random  # noqa: F401
 import pytest
 import xmlschema
 
