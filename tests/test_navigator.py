@@ -35,7 +35,8 @@ from baobab.nav.msgs import (
     pose_stamped,
     to_pose2d,
 )
-from baobab.nav.navigator import POLL_HORIZON, LoadMapResult
+from baobab.nav.navigator import LoadMapResult
+from baobab.nav.navigator_core import POLL_HORIZON
 from baobab.nav.navigator_feedback import (
     BackUpFeedback,
     FollowWaypointsFeedback,
