@@ -264,7 +264,7 @@ class RecordingHook:
         # Statuses change only at ticks: log on change, and once a second for live clients.
         changed = statuses != self._last_statuses
         if recorder is not None and (changed or final or now - self._last_status_log >= 1.0):
-            from baobab.sim.recording import TREE_STATUS, Topics
+            from baobab.missions.recording_topics import TREE_STATUS_SCHEMA, Topics
 
             self._last_status_log = now
             payload = {
@@ -282,7 +282,7 @@ class RecordingHook:
                     for node, status in zip(self._nodes, statuses, strict=True)
                 ],
             }
-            recorder.log_json(Topics.TREE_STATUS, now, payload, schema=TREE_STATUS)
+            recorder.log_json(Topics.TREE_STATUS, now, payload, schema=TREE_STATUS_SCHEMA)
         if self._btlog is not None and changed:
             from baobab.sim.btlog import PY_TREES_STATUS
 
@@ -296,13 +296,13 @@ class RecordingHook:
         self._last_statuses = statuses
 
     def _log_feedback(self, recorder: Recorder, now: float) -> None:
-        from baobab.sim.recording import TASK_FEEDBACK, Topics
+        from baobab.missions.recording_topics import TASK_FEEDBACK_SCHEMA, Topics
 
         for leaf in self._goal_leaves:
             handle = leaf.handle
             if leaf.status is py_trees.common.Status.RUNNING and handle is not None:
                 payload = {"task": handle.name, "node": leaf.name, **_plain(handle.feedback)}
-                recorder.log_json(Topics.TASK_FEEDBACK, now, payload, schema=TASK_FEEDBACK)
+                recorder.log_json(Topics.TASK_FEEDBACK, now, payload, schema=TASK_FEEDBACK_SCHEMA)
 
     # -- the end -----------------------------------------------------------------------------
 

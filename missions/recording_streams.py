@@ -19,8 +19,8 @@ odometry, drift included, and map -> odom corrects it (ground truth composed wit
 of the odometry), so base_link lands on the ground-truth pose where the robot model and the
 scan are drawn.
 
-This module imports foxglove (through :mod:`baobab.sim.recording`): it is imported only when a
-run records.
+The topic names are :mod:`baobab.missions.recording_topics`'. This module imports foxglove
+(through :mod:`baobab.sim.recording`): it is imported only when a run records.
 """
 
 from __future__ import annotations
@@ -30,10 +30,11 @@ import math
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from baobab.missions.recording_topics import Topics
 from baobab.missions.robots_wiring import ArmRig, MobileRig
 from baobab.robots.turtlebot3.model import BURGER
 from baobab.sim.lidar import LaserScan
-from baobab.sim.recording import Recorder, Topics, Trail, Transform
+from baobab.sim.recording import Recorder, Trail, Transform
 from baobab.sim.scene_primitives import GeomScene, location_entities
 from baobab.sim.simulation import PeriodicHandle
 from baobab.sim.world import Pose2D
@@ -99,12 +100,13 @@ class MobileStreams(Streams):
         self.rig.robot.lidar.unsubscribe(self._scan)
 
     def _scan(self, scan: LaserScan) -> None:
-        self.recorder.log_scan(scan, z=BURGER.lidar_height)
+        self.recorder.log_scan(Topics.SCAN, scan, z=BURGER.lidar_height)
 
     def _fast(self, t: float) -> None:
         base, recorder = self.base, self.recorder
         pose, odometry = base.pose(), base.odometry.pose
         recorder.log_transforms(
+            Topics.TF,
             t,
             [
                 Transform.planar("map", "odom", map_to_odom(pose, odometry)),
@@ -176,7 +178,7 @@ class ArmStreams(Streams):
         ]
 
     def _base_transform(self, t: float) -> None:
-        self.recorder.log_static_transforms(t, [self._base])
+        self.recorder.log_static_transforms(Topics.TF_STATIC, t, [self._base])
 
     def _state(self, t: float) -> None:
         recorder, controller, frame = self.recorder, self.server.controller, self.base_frame
@@ -191,6 +193,7 @@ class ArmStreams(Streams):
         recorder.log_pose(Topics.DESIRED_POSE, t, *controller.target, frame_id=frame)
         recorder.log_pose(Topics.FILT_REF_POSE, t, *controller.reference, frame_id=frame)
         recorder.log_joint_states(
+            Topics.JOINT_STATES,
             t,
             self.joint_names,
             [float(joint.qpos[0]) for joint in self._joints],
