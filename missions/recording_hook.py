@@ -43,9 +43,9 @@ from baobab.missions.export import preorder, to_btcpp_log
 from baobab.sim.errors import BaobabError
 
 if TYPE_CHECKING:
+    from baobab.missions.btcpp_log import BtLogWriter
     from baobab.missions.recording_streams import Streams
     from baobab.missions.robots_wiring import Rig
-    from baobab.sim.btlog import BtLogWriter
     from baobab.sim.recording import Recorder
     from baobab.sim.rendering import Camera, VideoRecorder
 
@@ -200,7 +200,7 @@ class RecordingHook:
             self._streams = ArmStreams(recorder, rig)
 
     def _start_btlog(self, path: Path) -> None:
-        from baobab.sim.btlog import BtLogWriter
+        from baobab.missions.btcpp_log import BtLogWriter
 
         xml = to_btcpp_log(self.compiled.mission)
         if xml.count(' _uid="') != len(self._nodes):  # one behaviour per mission node
@@ -284,7 +284,7 @@ class RecordingHook:
             }
             recorder.log_json(Topics.TREE_STATUS, now, payload, schema=TREE_STATUS_SCHEMA)
         if self._btlog is not None and changed:
-            from baobab.sim.btlog import PY_TREES_STATUS
+            from baobab.missions.btcpp_log import PY_TREES_STATUS
 
             self._btlog.update(
                 now,

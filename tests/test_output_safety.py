@@ -381,7 +381,7 @@ def test_a_video_or_tree_log_on_a_full_disk_raises_at_close_when_nobody_listens(
 ) -> None:
     import numpy as np
 
-    from baobab.sim.btlog import BtLogWriter, BtStatus
+    from baobab.missions.btcpp_log import BtLogWriter, BtStatus
     from baobab.sim.errors import BaobabError
     from baobab.sim.rendering import VideoWriter
 
