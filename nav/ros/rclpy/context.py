@@ -7,10 +7,15 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
 from types import TracebackType
-from typing import TYPE_CHECKING
+from typing import Protocol
 
-if TYPE_CHECKING:
-    from baobab.nav.ros.rclpy.node import Node
+
+class TrackedNode(Protocol):
+    """What a context needs of the nodes created in it (:class:`~.node.Node` is one)."""
+
+    def destroy_node(self) -> None:
+        """Release the node."""
+        ...
 
 
 class Context:
@@ -23,7 +28,7 @@ class Context:
     def __init__(self) -> None:
         self._initialized = False
         self._shut_down = False
-        self._nodes: list[weakref.ref[Node]] = []
+        self._nodes: list[weakref.ref[TrackedNode]] = []
         self._callbacks: list[Callable[[], None]] = []
 
     def init(
@@ -85,14 +90,14 @@ class Context:
         else:
             self._callbacks.append(callback)
 
-    def track_node(self, node: Node) -> None:
+    def track_node(self, node: TrackedNode) -> None:
         """Destroy ``node`` when this context shuts down (held weakly)."""
         # Nodes dropped without destroy_node() leave dead references; a script that makes
         # navigators in a loop must not pile them up.
         self._nodes = [reference for reference in self._nodes if reference() is not None]
         self._nodes.append(weakref.ref(node))
 
-    def untrack_node(self, node: Node) -> None:
+    def untrack_node(self, node: TrackedNode) -> None:
         """Forget ``node`` (it was destroyed on its own)."""
         self._nodes = [ref for ref in self._nodes if ref() is not None and ref() is not node]
 
