@@ -14,7 +14,6 @@ from baobab.behaviours.ports import ARM, TELEOP
 from baobab.missions.error_codes import error_codes
 from baobab.missions.errors import MissionError, located, unknown_name
 from baobab.missions.poses import MissionScope, Pose
-from baobab.missions.robot_catalog import RobotInfo
 from baobab.missions.schema import (
     ARM_EXPECTATIONS,
     LIDAR_FAULTS,
@@ -30,6 +29,7 @@ from baobab.missions.schema import (
     SpawnObstacleEvent,
     TeleopEvent,
 )
+from baobab.robots.catalog import RobotInfo
 from baobab.sim.world import MOVABLE_SLOT_COUNT
 from baobab.sim.yaml_source import KeyPath, LocatedDocument
 

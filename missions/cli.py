@@ -267,7 +267,7 @@ def bundled_missions() -> dict[str, str]:
 
 def _catalogue() -> dict[str, Any]:
     from baobab.missions.registry import default_registry
-    from baobab.missions.robot_catalog import ROBOTS
+    from baobab.robots.catalog import ROBOTS
     from baobab.sim.world import bundled_world_names
 
     registry = default_registry()

@@ -32,7 +32,6 @@ from baobab.missions.params import (
 )
 from baobab.missions.poses import MissionScope, Pose
 from baobab.missions.registry import Registry, default_registry
-from baobab.missions.robot_catalog import ROBOTS, RobotInfo
 from baobab.missions.schema import (
     SUBSTITUTED_SECTIONS,
     TOP_LEVEL_KEYS,
@@ -44,6 +43,7 @@ from baobab.missions.schema import (
     SubtreeSpec,
 )
 from baobab.missions.tree_parser import Node, NodeShape, TreeParser
+from baobab.robots.catalog import ROBOTS, RobotInfo
 from baobab.sim.input_files import file_kind_problem
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
 from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml, read_yaml_text

@@ -27,7 +27,7 @@ from pydantic import (
 from pydantic_core import CoreSchema
 
 from baobab.missions.errors import FieldError, unknown_name
-from baobab.missions.robot_catalog import RobotInfo
+from baobab.robots.catalog import RobotInfo
 from baobab.sim.point_clearance import obstacle_distances_at
 from baobab.sim.world import Pose2D, World
 from baobab.sim.yaml_models import YamlModel

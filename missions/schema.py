@@ -23,7 +23,7 @@ from pydantic import (
 from baobab.missions.errors import FieldError, unknown_name
 from baobab.missions.params import PARAM_NAME_PATTERN, ParamSpec
 from baobab.missions.poses import POSE_REF_SCHEMA, POSE_SCHEMA, PlanarPose, Pose, parse_pose
-from baobab.missions.robot_catalog import ROBOTS
+from baobab.robots.catalog import ROBOTS
 from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import empty_list
 

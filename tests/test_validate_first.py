@@ -19,9 +19,9 @@ import pytest
 from baobab.missions.cli import main
 from baobab.missions.error_codes import MissionErrorCode, error_codes
 from baobab.missions.loader import load_mission
-from baobab.missions.robot_catalog import ROBOTS
 from baobab.missions.robots_wiring import build_rig
 from baobab.nav import errors as nav_errors
+from baobab.robots.catalog import ROBOTS
 
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
 MOBILE = HEADER + "mission: m\nworld: walls\nrobot: turtlebot3\ntree: {wait: 1}\n"
