@@ -14,14 +14,25 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
+from baobab.robots.catalog import ARM, BASE_CONTROLLERS, NAVIGATION, TELEOP
 from baobab.sim.errors import BaobabError
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D
 
-NAVIGATION = "navigation"
-BASE_CONTROLLERS = "base_controllers"
-ARM = "arm"
-TELEOP = "teleop"
+__all__ = [
+    "ARM",
+    "BASE_CONTROLLERS",
+    "NAVIGATION",
+    "PORT_CAPABILITIES",
+    "TELEOP",
+    "ArmPort",
+    "BaseControllerPort",
+    "Capabilities",
+    "CapabilityError",
+    "Clock",
+    "NavigationPort",
+]
+
 PORT_CAPABILITIES = (NAVIGATION, BASE_CONTROLLERS, ARM)
 """Capabilities that behaviour-tree leaves use through a port (teleop is driven by events)."""
 

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from baobab.behaviours.ports import ARM, TELEOP
 from baobab.missions.error_codes import error_codes
 from baobab.missions.errors import MissionError, located, unknown_name
+from baobab.missions.metric_names import metric_names, structured_metric_names
 from baobab.missions.poses import MissionScope, Pose
 from baobab.missions.schema import (
     ARM_EXPECTATIONS,
@@ -217,8 +218,9 @@ class MissionChecks:
 
 def metric_name_problem(name: str, robot: RobotInfo) -> str | None:
     """Why ``expect: metrics:`` cannot bound ``name`` in runs of ``robot``, or None."""
-    if name in robot.metrics:
+    numbers = metric_names(robot)
+    if name in numbers:
         return None
-    if name in robot.structured_metrics:
-        return f"metric '{name}' is not a number; bounds apply to: {', '.join(robot.metrics)}"
-    return unknown_name("metric", name, robot.metrics, f"runs of {robot.name}")
+    if name in structured_metric_names(robot):
+        return f"metric '{name}' is not a number; bounds apply to: {', '.join(numbers)}"
+    return unknown_name("metric", name, numbers, f"runs of {robot.name}")

@@ -1,14 +1,22 @@
 """The robots a mission may name, with the facts validation needs before any physics.
 
 Figures are DESIGN §5 (TurtleBot3 Burger) and the bundled Panda scene
-(``sim/worlds/panda_table.xml``: a table and a 5 cm cube named ``cube``).
+(``sim/worlds/panda_table.xml``: a table and a 5 cm cube named ``cube``). Importing this module
+loads nothing else: ``baobab validate`` reads it without MuJoCo.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from baobab.behaviours.ports import ARM, BASE_CONTROLLERS, NAVIGATION, TELEOP
+NAVIGATION = "navigation"
+"""A Nav2-style navigation server (:mod:`baobab.nav`)."""
+BASE_CONTROLLERS = "base_controllers"
+"""The tutorial base controllers: go-to-goal and Bug2."""
+ARM = "arm"
+"""Cartesian tool moves and a gripper."""
+TELEOP = "teleop"
+"""Teleop input that events hold (assisted teleop reads it)."""
 
 
 @dataclass(frozen=True)
@@ -40,48 +48,10 @@ class RobotInfo:
     scene_objects: tuple[str, ...] = ()
     has_lidar: bool = False
 
-    @property
-    def metrics(self) -> tuple[str, ...]:
-        """The numeric metrics of this robot's runs (what ``expect: metrics:`` may bound)."""
-        if self.mobile:
-            return MOBILE_METRICS
-        objects = self.scene_objects
-        per_object = tuple(f"{name}_max_lift" for name in objects)
-        placement = ("placement_error",) if objects else ()
-        return ARM_METRICS + per_object + placement + ("max_tracking_error",)
-
-    @property
-    def structured_metrics(self) -> tuple[str, ...]:
-        """The metrics of this robot's runs whose values are not numbers (poses, names)."""
-        if self.mobile:
-            return MOBILE_STRUCTURED_METRICS
-        return ("contact_objects", *(f"{name}_final_position" for name in self.scene_objects))
-
     def describe_capabilities(self) -> str:
         """``arm`` or ``base_controllers, navigation, teleop``."""
         return ", ".join(sorted(self.capabilities))
 
-
-MOBILE_METRICS = (
-    "sim_time",
-    "path_length",
-    "straight_line_distance",
-    "min_clearance",
-    "contacts",
-    "number_of_recoveries",
-    "planned_path_length",
-    "costmap_clears",
-    "replans",
-    "teleop_min_scaling",
-    "teleop_slowed_cycles",
-    "teleop_max_speed",
-    "teleop_costmap_clears",
-)
-"""The numeric metrics of a mobile robot's run (``baobab.missions.robots_wiring.MobileRig``)."""
-MOBILE_STRUCTURED_METRICS = ("contact_objects", "start_pose", "final_pose", "visited")
-ARM_METRICS = ("sim_time", "tcp_path_length", "object_max_lift", "contacts")
-"""The numeric metrics of every arm run; each scene object adds ``<object>_max_lift``, and
-``placement_error`` and ``max_tracking_error`` follow (``ArmRig``)."""
 
 ROBOTS: dict[str, RobotInfo] = {
     "turtlebot3": RobotInfo(

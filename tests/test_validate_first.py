@@ -19,6 +19,7 @@ import pytest
 from baobab.missions.cli import main
 from baobab.missions.error_codes import MissionErrorCode, error_codes
 from baobab.missions.loader import load_mission
+from baobab.missions.metric_names import metric_names, structured_metric_names
 from baobab.missions.robots_wiring import build_rig
 from baobab.nav import errors as nav_errors
 from baobab.robots.catalog import ROBOTS
@@ -39,8 +40,8 @@ def test_the_metric_catalogue_is_what_a_run_registers(text: str, tmp_path: Path)
     path.write_text(text)
     mission = load_mission(path)
     rig = build_rig(mission, seed=0)
-    assert list(mission.robot.metrics) == rig.metrics.number_names()
-    every = set(mission.robot.metrics) | set(mission.robot.structured_metrics)
+    assert list(metric_names(mission.robot)) == rig.metrics.number_names()
+    every = set(metric_names(mission.robot)) | set(structured_metric_names(mission.robot))
     assert every == set(rig.metrics.names())
 
 
