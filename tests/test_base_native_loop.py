@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from baobab.missions.metrics import ContactSampler, MobileProbe
+from baobab.missions.run.metrics import ContactSampler, MobileProbe
 from baobab.robots.turtlebot3 import BURGER, TurtleBot3, build_turtlebot3_sim
 from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
 from baobab.sim.world import Box, Floor, Pose2D, World

@@ -29,10 +29,10 @@ from pathlib import Path
 
 import pytest
 
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import Mission, load_mission
-from baobab.missions.robots_wiring import MobileRig
-from baobab.missions.runner import RunRecord, run_mission
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import Mission, load_mission
+from baobab.missions.run.rig import MobileRig
+from baobab.missions.run.runner import RunRecord, run_mission
 
 BUNDLED = sorted(Path(str(resources.files("baobab.missions"))).glob("*.yaml"))
 PREFIX_TIME = 20.0
@@ -84,8 +84,8 @@ def test_a_noisy_run_repeats_across_processes(tmp_path: Path) -> None:
     here = run_mission(mission).trace_digest
     script = (
         "import sys\n"
-        "from baobab.missions.loader import load_mission\n"
-        "from baobab.missions.runner import run_mission\n"
+        "from baobab.missions.language.loader import load_mission\n"
+        "from baobab.missions.run.runner import run_mission\n"
         "print(run_mission(load_mission(sys.argv[1])).trace_digest)\n"
     )
     env = {**os.environ, "PYTHONHASHSEED": "12345"}

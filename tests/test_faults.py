@@ -16,10 +16,10 @@ from typing import Any
 
 import pytest
 
-from baobab.missions.cli import main
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import load_mission
-from baobab.missions.run_folder import PLOT_FILE, RESULT_FILE, TRACE_FILE
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.run_folder import PLOT_FILE, RESULT_FILE, TRACE_FILE
 
 BAOBAB = str(Path(sys.executable).parent / "baobab")
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"

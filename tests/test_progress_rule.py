@@ -14,9 +14,9 @@ import py_trees
 import pytest
 
 from baobab.behaviours.progress import ClearCostmapsWhenStuck, forward_speed
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import load_mission
-from baobab.missions.runner import run_mission
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.runner import run_mission
 from baobab.sim.world import Pose2D
 
 Status = py_trees.common.Status

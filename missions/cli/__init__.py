@@ -1,0 +1,1 @@
+"""The ``baobab`` command line: one module per subcommand, and the process's start-up."""

@@ -1,0 +1,1 @@
+"""Missions as tests: the pytest plugin, scenario runs, expectation tables and baselines."""
