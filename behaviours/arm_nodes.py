@@ -22,9 +22,10 @@ from pydantic import Field, ValidationInfo, model_validator
 
 from baobab.behaviours.ports import ARM, Capabilities
 from baobab.behaviours.poses import ArmPose, MissionScope, vector_norm
-from baobab.behaviours.registry import BehaviourType, BuildRequest, NodeKind, NodeParams, Registry
-from baobab.missions.language.errors import FieldError, unknown_name
+from baobab.behaviours.registry import BehaviourType, BuildRequest, NodeKind, NodeParams
+from baobab.sim.errors import unknown_name
 from baobab.sim.tasks import TaskHandle
+from baobab.sim.yaml_source import FieldValueError
 
 if TYPE_CHECKING:  # imported by the factories, when a tree is built (validation needs none)
     import py_trees
@@ -38,7 +39,7 @@ def _check_object(name: str, info: ValidationInfo, key: str, allow_tcp: bool) ->
     robot = MissionScope.of(info).robot
     valid = [*robot.scene_objects, *([TCP] if allow_tcp else [])]
     if name not in valid:
-        raise FieldError((key,), unknown_name("object", name, valid))
+        raise FieldValueError((key,), unknown_name("object", name, valid))
 
 
 class MoveToParams(NodeParams):
@@ -61,7 +62,7 @@ class MoveToParams(NodeParams):
         if self.relative_to is not None:
             _check_object(self.relative_to, info, "relative_to", allow_tcp=True)
         if self.orientation is not None and vector_norm(self.orientation) < 1e-9:
-            raise FieldError(("orientation",), "orientation quaternion has zero norm")
+            raise FieldValueError(("orientation",), "orientation quaternion has zero norm")
         return self
 
     def summary(self) -> str:
@@ -146,37 +147,32 @@ def _object_at(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     )
 
 
-def register(registry: Registry) -> None:
-    """Register the arm node types."""
-    registry.register(
-        BehaviourType(
-            "move_to",
-            NodeKind.ACTION,
-            MoveToParams,
-            "move the tool to a pose or an offset from an object or the tool",
-            _move_to,
-            capability=ARM,
-            shorthand="pose",
-        )
-    )
-    registry.register(
-        BehaviourType(
-            "gripper",
-            NodeKind.ACTION,
-            GripperParams,
-            "open or close the gripper",
-            _gripper,
-            capability=ARM,
-            shorthand="command",
-        )
-    )
-    registry.register(
-        BehaviourType(
-            "object_at",
-            NodeKind.CONDITION,
-            ObjectAtParams,
-            "succeed when an object lies within tolerance of a target",
-            _object_at,
-            capability=ARM,
-        )
-    )
+NODE_TYPES = (
+    BehaviourType(
+        "move_to",
+        NodeKind.ACTION,
+        MoveToParams,
+        "move the tool to a pose or an offset from an object or the tool",
+        _move_to,
+        capability=ARM,
+        shorthand="pose",
+    ),
+    BehaviourType(
+        "gripper",
+        NodeKind.ACTION,
+        GripperParams,
+        "open or close the gripper",
+        _gripper,
+        capability=ARM,
+        shorthand="command",
+    ),
+    BehaviourType(
+        "object_at",
+        NodeKind.CONDITION,
+        ObjectAtParams,
+        "succeed when an object lies within tolerance of a target",
+        _object_at,
+        capability=ARM,
+    ),
+)
+"""The arm node types."""

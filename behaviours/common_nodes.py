@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 from pydantic import Field
 
-from baobab.behaviours.registry import BehaviourType, BuildRequest, NodeKind, NodeParams, Registry
+from baobab.behaviours.registry import BehaviourType, BuildRequest, NodeKind, NodeParams
 
 if TYPE_CHECKING:  # imported by the factories, when a tree is built (validation needs none)
     import py_trees
@@ -66,33 +66,24 @@ def _always_failure(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     return Constant(request.name, py_trees.common.Status.FAILURE)
 
 
-def register(registry: Registry) -> None:
-    """Register the capability-free node types."""
-    registry.register(
-        BehaviourType(
-            "wait",
-            NodeKind.ACTION,
-            WaitParams,
-            "wait duration s of sim time",
-            _wait,
-            shorthand="duration",
-        )
-    )
-    registry.register(
-        BehaviourType(
-            "elapsed",
-            NodeKind.CONDITION,
-            ElapsedParams,
-            "succeed once the sim time has reached time s",
-            _elapsed,
-            shorthand="time",
-        )
-    )
-    registry.register(
-        BehaviourType(
-            "always_success", NodeKind.ACTION, NoParams, "succeed at once", _always_success
-        )
-    )
-    registry.register(
-        BehaviourType("always_failure", NodeKind.ACTION, NoParams, "fail at once", _always_failure)
-    )
+NODE_TYPES = (
+    BehaviourType(
+        "wait",
+        NodeKind.ACTION,
+        WaitParams,
+        "wait duration s of sim time",
+        _wait,
+        shorthand="duration",
+    ),
+    BehaviourType(
+        "elapsed",
+        NodeKind.CONDITION,
+        ElapsedParams,
+        "succeed once the sim time has reached time s",
+        _elapsed,
+        shorthand="time",
+    ),
+    BehaviourType("always_success", NodeKind.ACTION, NoParams, "succeed at once", _always_success),
+    BehaviourType("always_failure", NodeKind.ACTION, NoParams, "fail at once", _always_failure),
+)
+"""The capability-free node types."""

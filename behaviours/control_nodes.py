@@ -12,8 +12,13 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
-from baobab.behaviours.registry import BehaviourType, BuildRequest, NodeKind, NodeParams, Registry
-from baobab.missions.language.models import NodeData
+from baobab.behaviours.registry import (
+    BehaviourType,
+    BuildRequest,
+    NodeData,
+    NodeKind,
+    NodeParams,
+)
 
 if TYPE_CHECKING:  # imported by the factories, when a tree is built (validation needs none)
     import py_trees
@@ -201,86 +206,83 @@ def _subtree(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     return py_trees.decorators.PassThrough(name=request.name, child=request.child)
 
 
-def register(registry: Registry) -> None:
-    """Register the control-flow node types."""
-    composite, decorator = NodeKind.COMPOSITE, NodeKind.DECORATOR
-    for entry in (
-        BehaviourType(
-            "sequence",
-            composite,
-            SequenceParams,
-            "run children in order; fail at the first failure",
-            _sequence,
-            shorthand="children",
-        ),
-        BehaviourType(
-            "selector",
-            composite,
-            SelectorParams,
-            "try children in order until one succeeds",
-            _selector,
-            shorthand="children",
-        ),
-        BehaviourType(
-            "parallel",
-            composite,
-            ParallelParams,
-            "tick all children together; policy success_on_all or success_on_one",
-            _parallel,
-            shorthand="children",
-        ),
-        BehaviourType(
-            "retry",
-            decorator,
-            RetryParams,
-            "re-run the child after a failure, num_failures attempts in all",
-            _retry,
-        ),
-        BehaviourType(
-            "timeout",
-            decorator,
-            TimeoutParams,
-            "fail and cancel the child after duration s of sim time",
-            _timeout,
-        ),
-        BehaviourType(
-            "repeat",
-            decorator,
-            RepeatParams,
-            "re-run the child after each success, num_success times (-1 forever)",
-            _repeat,
-        ),
-        BehaviourType(
-            "invert",
-            decorator,
-            DecoratorParams,
-            "swap the child's success and failure",
-            _invert,
-            shorthand="child",
-        ),
-        BehaviourType(
-            "force_success",
-            decorator,
-            DecoratorParams,
-            "succeed when the child finishes, whatever its result",
-            _force_success,
-            shorthand="child",
-        ),
-        BehaviourType(
-            "force_failure",
-            decorator,
-            DecoratorParams,
-            "fail when the child finishes, whatever its result",
-            _force_failure,
-            shorthand="child",
-        ),
-        BehaviourType(
-            "subtree",
-            NodeKind.SUBTREE,
-            SubtreeCall,
-            "use a subtree of this file with arguments",
-            _subtree,
-            shorthand="name",
-        ),
-    ):
-        registry.register(entry)
+NODE_TYPES = (
+    BehaviourType(
+        "sequence",
+        NodeKind.COMPOSITE,
+        SequenceParams,
+        "run children in order; fail at the first failure",
+        _sequence,
+        shorthand="children",
+    ),
+    BehaviourType(
+        "selector",
+        NodeKind.COMPOSITE,
+        SelectorParams,
+        "try children in order until one succeeds",
+        _selector,
+        shorthand="children",
+    ),
+    BehaviourType(
+        "parallel",
+        NodeKind.COMPOSITE,
+        ParallelParams,
+        "tick all children together; policy success_on_all or success_on_one",
+        _parallel,
+        shorthand="children",
+    ),
+    BehaviourType(
+        "retry",
+        NodeKind.DECORATOR,
+        RetryParams,
+        "re-run the child after a failure, num_failures attempts in all",
+        _retry,
+    ),
+    BehaviourType(
+        "timeout",
+        NodeKind.DECORATOR,
+        TimeoutParams,
+        "fail and cancel the child after duration s of sim time",
+        _timeout,
+    ),
+    BehaviourType(
+        "repeat",
+        NodeKind.DECORATOR,
+        RepeatParams,
+        "re-run the child after each success, num_success times (-1 forever)",
+        _repeat,
+    ),
+    BehaviourType(
+        "invert",
+        NodeKind.DECORATOR,
+        DecoratorParams,
+        "swap the child's success and failure",
+        _invert,
+        shorthand="child",
+    ),
+    BehaviourType(
+        "force_success",
+        NodeKind.DECORATOR,
+        DecoratorParams,
+        "succeed when the child finishes, whatever its result",
+        _force_success,
+        shorthand="child",
+    ),
+    BehaviourType(
+        "force_failure",
+        NodeKind.DECORATOR,
+        DecoratorParams,
+        "fail when the child finishes, whatever its result",
+        _force_failure,
+        shorthand="child",
+    ),
+    BehaviourType(
+        "subtree",
+        NodeKind.SUBTREE,
+        SubtreeCall,
+        "use a subtree of this file with arguments",
+        _subtree,
+        shorthand="name",
+    ),
+)
+"""The control-flow node types, in the order ``baobab list`` shows them."""

@@ -20,12 +20,10 @@ from baobab.behaviours.poses import GoalPose, MissionScope, Pose, PoseRef
 from baobab.behaviours.registry import (
     BehaviourType,
     BuildRequest,
-    Factory,
     NodeKind,
     NodeParams,
-    Registry,
 )
-from baobab.missions.language.errors import FieldError
+from baobab.sim.yaml_source import FieldValueError
 
 if TYPE_CHECKING:  # imported by the factories, when a tree is built (validation needs none)
     import py_trees
@@ -95,7 +93,7 @@ class SpinParams(NodeParams):
     @model_validator(mode="after")
     def _one_angle(self) -> SpinParams:
         if self.angle is not None and self.angle_deg is not None:
-            raise FieldError(("angle_deg",), "give either angle (rad) or angle_deg, not both")
+            raise FieldValueError(("angle_deg",), "give either angle (rad) or angle_deg, not both")
         return self
 
     @property
@@ -119,14 +117,14 @@ class _StraightParams(NodeParams):
     def _feasible(self, info: ValidationInfo) -> _StraightParams:
         robot = MissionScope.of(info).robot
         if robot.max_linear_speed and self.speed > robot.max_linear_speed:
-            raise FieldError(
+            raise FieldValueError(
                 ("speed",),
                 f"speed {self.speed:g} m/s exceeds {robot.name}'s limit "
                 f"{robot.max_linear_speed:g} m/s",
             )
         needed = self.distance / self.speed
         if needed > self.time_allowance:
-            raise FieldError(
+            raise FieldValueError(
                 ("time_allowance",),
                 f"{self.distance:g} m at {self.speed:g} m/s takes {needed:g} s, more than the "
                 f"time_allowance {self.time_allowance:g} s",
@@ -299,53 +297,118 @@ class Bug2Params(NavigateToPoseParams):
     """Bug2 to ``goal``: follow the M-line, walls on the left when blocked."""
 
 
-def register(registry: Registry) -> None:
-    """Register the navigation and base-controller node types."""
-    action, nav, base = NodeKind.ACTION, NAVIGATION, BASE_CONTROLLERS
-    entries: list[tuple[str, type[NodeParams], str, Factory, str, str, bool]] = [
-        ("navigate_to_pose", NavigateToPoseParams, "plan and drive to a goal pose",
-         _navigate_to_pose, nav, "goal", True),
-        ("navigate_through_poses", NavigateThroughPosesParams,
-         "drive through poses without stopping", _navigate_through_poses, nav, "poses", False),
-        ("follow_waypoints", FollowWaypointsParams, "visit waypoints in turn, pausing at each",
-         _follow_waypoints, nav, "waypoints", False),
-        ("follow_path", FollowPathParams, "track a given path without planning",
-         _follow_path, nav, "path", False),
-        ("spin", SpinParams, "turn in place by an angle", _spin, nav, "angle", False),
-        ("back_up", BackUpParams, "reverse a distance", _back_up, nav, "distance", False),
-        ("drive_on_heading", DriveOnHeadingParams, "drive straight ahead a distance",
-         _drive_on_heading, nav, "distance", False),
-        ("clear_costmaps", ClearCostmapsParams, "clear local, global or all costmaps",
-         _clear_costmaps, nav, "which", False),
-        ("assisted_teleop", AssistedTeleopParams, "teleop through the collision projection",
-         _assisted_teleop, nav, "time_allowance", False),
-        ("go_to_goal", GoToGoalParams, "tutorial go-to-goal controller to a goal",
-         _go_to_goal, base, "goal", True),
-        ("bug2", Bug2Params, "Bug2 wall-following controller to a goal",
-         _bug2, base, "goal", True),
-    ]  # fmt: skip
-    for name, params, description, factory, capability, shorthand, pose_shorthand in entries:
-        registry.register(
-            BehaviourType(
-                name,
-                action,
-                params,
-                description,
-                factory,
-                capability=capability,
-                shorthand=shorthand,
-                pose_shorthand=pose_shorthand,
-            )
-        )
-    registry.register(
-        BehaviourType(
-            "is_at",
-            NodeKind.CONDITION,
-            IsAtParams,
-            "succeed when the robot is within tolerance of a location",
-            _is_at,
-            capability=nav,
-            shorthand="location",
-            pose_shorthand=True,
-        )
-    )
+NODE_TYPES = (
+    BehaviourType(
+        "navigate_to_pose",
+        NodeKind.ACTION,
+        NavigateToPoseParams,
+        "plan and drive to a goal pose",
+        _navigate_to_pose,
+        capability=NAVIGATION,
+        shorthand="goal",
+        pose_shorthand=True,
+    ),
+    BehaviourType(
+        "navigate_through_poses",
+        NodeKind.ACTION,
+        NavigateThroughPosesParams,
+        "drive through poses without stopping",
+        _navigate_through_poses,
+        capability=NAVIGATION,
+        shorthand="poses",
+    ),
+    BehaviourType(
+        "follow_waypoints",
+        NodeKind.ACTION,
+        FollowWaypointsParams,
+        "visit waypoints in turn, pausing at each",
+        _follow_waypoints,
+        capability=NAVIGATION,
+        shorthand="waypoints",
+    ),
+    BehaviourType(
+        "follow_path",
+        NodeKind.ACTION,
+        FollowPathParams,
+        "track a given path without planning",
+        _follow_path,
+        capability=NAVIGATION,
+        shorthand="path",
+    ),
+    BehaviourType(
+        "spin",
+        NodeKind.ACTION,
+        SpinParams,
+        "turn in place by an angle",
+        _spin,
+        capability=NAVIGATION,
+        shorthand="angle",
+    ),
+    BehaviourType(
+        "back_up",
+        NodeKind.ACTION,
+        BackUpParams,
+        "reverse a distance",
+        _back_up,
+        capability=NAVIGATION,
+        shorthand="distance",
+    ),
+    BehaviourType(
+        "drive_on_heading",
+        NodeKind.ACTION,
+        DriveOnHeadingParams,
+        "drive straight ahead a distance",
+        _drive_on_heading,
+        capability=NAVIGATION,
+        shorthand="distance",
+    ),
+    BehaviourType(
+        "clear_costmaps",
+        NodeKind.ACTION,
+        ClearCostmapsParams,
+        "clear local, global or all costmaps",
+        _clear_costmaps,
+        capability=NAVIGATION,
+        shorthand="which",
+    ),
+    BehaviourType(
+        "assisted_teleop",
+        NodeKind.ACTION,
+        AssistedTeleopParams,
+        "teleop through the collision projection",
+        _assisted_teleop,
+        capability=NAVIGATION,
+        shorthand="time_allowance",
+    ),
+    BehaviourType(
+        "go_to_goal",
+        NodeKind.ACTION,
+        GoToGoalParams,
+        "tutorial go-to-goal controller to a goal",
+        _go_to_goal,
+        capability=BASE_CONTROLLERS,
+        shorthand="goal",
+        pose_shorthand=True,
+    ),
+    BehaviourType(
+        "bug2",
+        NodeKind.ACTION,
+        Bug2Params,
+        "Bug2 wall-following controller to a goal",
+        _bug2,
+        capability=BASE_CONTROLLERS,
+        shorthand="goal",
+        pose_shorthand=True,
+    ),
+    BehaviourType(
+        "is_at",
+        NodeKind.CONDITION,
+        IsAtParams,
+        "succeed when the robot is within tolerance of a location",
+        _is_at,
+        capability=NAVIGATION,
+        shorthand="location",
+        pose_shorthand=True,
+    ),
+)
+"""The navigation and base-controller node types."""

@@ -26,11 +26,12 @@ from pydantic import (
 )
 from pydantic_core import CoreSchema
 
-from baobab.missions.language.errors import FieldError, unknown_name
 from baobab.robots.catalog import RobotInfo
+from baobab.sim.errors import unknown_name
 from baobab.sim.point_clearance import obstacle_distances_at
 from baobab.sim.world import Pose2D, World
 from baobab.sim.yaml_models import YamlModel
+from baobab.sim.yaml_source import FieldValueError
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 IDENTITY_XYZW = (0.0, 0.0, 0.0, 1.0)
@@ -108,7 +109,7 @@ class PlanarPose(_Strict):
     @model_validator(mode="after")
     def _one_heading(self) -> PlanarPose:
         if self.yaw is not None and self.yaw_deg is not None:
-            raise FieldError(("yaw_deg",), "give either yaw (rad) or yaw_deg (deg), not both")
+            raise FieldValueError(("yaw_deg",), "give either yaw (rad) or yaw_deg (deg), not both")
         return self
 
     def to_pose(self) -> Pose:
@@ -128,7 +129,7 @@ class SpatialPose(_Strict):
     @model_validator(mode="after")
     def _unit_quaternion(self) -> SpatialPose:
         if vector_norm(self.orientation) < 1e-9:
-            raise FieldError(("orientation",), "orientation quaternion has zero norm")
+            raise FieldValueError(("orientation",), "orientation quaternion has zero norm")
         return self
 
     def to_pose(self) -> Pose:

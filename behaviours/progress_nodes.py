@@ -19,8 +19,13 @@ from pydantic import Field
 
 from baobab.behaviours.ports import NAVIGATION
 from baobab.behaviours.progress_rule import DEFAULT_MIN_SPEED, DEFAULT_PERIOD
-from baobab.behaviours.registry import BehaviourType, BuildRequest, NodeKind, NodeParams, Registry
-from baobab.missions.language.models import NodeData
+from baobab.behaviours.registry import (
+    BehaviourType,
+    BuildRequest,
+    NodeData,
+    NodeKind,
+    NodeParams,
+)
 
 if TYPE_CHECKING:  # imported by the factory, when a tree is built (validation needs none)
     import py_trees
@@ -62,16 +67,15 @@ def _clear_costmaps_when_stuck(request: BuildRequest) -> py_trees.behaviour.Beha
     )
 
 
-def register(registry: Registry) -> None:
-    """Register the progress-rule node types."""
-    registry.register(
-        BehaviourType(
-            "clear_costmaps_when_stuck",
-            NodeKind.DECORATOR,
-            ClearCostmapsWhenStuckParams,
-            "while the child runs, clear costmaps every period s without forward progress",
-            _clear_costmaps_when_stuck,
-            capability=NAVIGATION,
-            shorthand="child",
-        )
-    )
+NODE_TYPES = (
+    BehaviourType(
+        "clear_costmaps_when_stuck",
+        NodeKind.DECORATOR,
+        ClearCostmapsWhenStuckParams,
+        "while the child runs, clear costmaps every period s without forward progress",
+        _clear_costmaps_when_stuck,
+        capability=NAVIGATION,
+        shorthand="child",
+    ),
+)
+"""The progress-rule node types."""

@@ -10,12 +10,11 @@ cannot drift apart.
 from __future__ import annotations
 
 import enum
-import functools
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
-from pydantic import ConfigDict, Field
+from pydantic import ConfigDict, Field, WithJsonSchema
 from pydantic.fields import FieldInfo
 
 from baobab.behaviours.ports import Capabilities
@@ -26,6 +25,11 @@ if TYPE_CHECKING:  # factories import py_trees when they build, so validation ne
     import py_trees
 
 P = TypeVar("P", bound="NodeParams")
+NODE_SCHEMA_MARKER = "x-baobab-node"
+"""Stands for ``{"$ref": "#/$defs/Node"}`` until the mission's JSON Schema is assembled
+(:mod:`baobab.missions.language.json_schema`)."""
+NodeData = Annotated[Any, WithJsonSchema({NODE_SCHEMA_MARKER: True})]
+"""One behaviour-tree node as written: a single-key mapping ``{type: parameters}``."""
 STRUCTURAL_FIELDS = ("name", "children", "child")
 """Parameter fields every node may have or that hold children: not ports of the node."""
 
@@ -159,23 +163,6 @@ class Registry:
     def names(self) -> list[str]:
         """Registered names in registration order."""
         return list(self._types)
-
-
-@functools.cache
-def default_registry() -> Registry:
-    """The registry of every built-in node type (built once per process)."""
-    from baobab.behaviours import (
-        arm_nodes,
-        common_nodes,
-        control_nodes,
-        navigation_nodes,
-        progress_nodes,
-    )
-
-    registry = Registry()
-    for module in (control_nodes, common_nodes, navigation_nodes, progress_nodes, arm_nodes):
-        module.register(registry)
-    return registry
 
 
 def node_label(behaviour_type: BehaviourType, params: NodeParams) -> str:

@@ -27,8 +27,8 @@ from btcpp_harness import (
     tick_to_completion,
 )
 
+from baobab.behaviours.builtin import default_registry
 from baobab.behaviours.ports import Capabilities
-from baobab.behaviours.registry import default_registry
 from baobab.missions.cli.command_line import main
 from baobab.missions.language.btcpp_limits import BTCPP_NODE_IDS
 from baobab.missions.language.btcpp_log import PY_TREES_STATUS, BtLogWriter

@@ -14,7 +14,7 @@ import pydot
 import pytest
 import yaml
 
-from baobab.behaviours.registry import default_registry
+from baobab.behaviours.builtin import default_registry
 from baobab.missions.cli.command_line import main
 
 FIXTURES = Path(__file__).parent / "missions"

@@ -10,13 +10,13 @@ import jsonschema
 import pytest
 import yaml
 
+from baobab.behaviours.builtin import default_registry
 from baobab.behaviours.common_nodes import WaitParams
 from baobab.behaviours.registry import (
     BehaviourType,
     NodeKind,
     Registry,
     RegistryError,
-    default_registry,
 )
 from baobab.missions.language.json_schema import mission_json_schema
 from baobab.missions.language.loader import load_mission

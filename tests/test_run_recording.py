@@ -29,8 +29,9 @@ from mcap.reader import make_reader
 from mcap.records import Schema as McapSchema
 from mcap_protobuf.decoder import DecoderFactory
 
+from baobab.behaviours.builtin import default_registry
 from baobab.behaviours.ports import Capabilities
-from baobab.behaviours.registry import NodeKind, default_registry
+from baobab.behaviours.registry import NodeKind
 from baobab.missions.cli.command_line import main
 from baobab.missions.cli.run_command import resolve_mission
 from baobab.missions.language.compiler import compile_mission

@@ -31,7 +31,6 @@ from typing import Any, Literal
 
 import numpy as np
 
-from baobab.missions.language.errors import unknown_name
 from baobab.missions.language.loader import Mission
 from baobab.missions.language.params import ParamSpec
 from baobab.missions.language.models import (
@@ -40,7 +39,7 @@ from baobab.missions.language.models import (
     ObstacleSpawn,
     TeleopCommand,
 )
-from baobab.sim.errors import BaobabError, clip
+from baobab.sim.errors import BaobabError, clip, unknown_name
 from baobab.sim.yaml_source import KeyPath
 
 SIGNIFICANT_DIGITS = 6

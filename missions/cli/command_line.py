@@ -166,7 +166,7 @@ def _validate(args: argparse.Namespace) -> int:
     # subtrees, poses); building the py_trees tree from a loaded mission cannot fail, so validate
     # does not build it (and does not import py_trees).
     with loading_modules():
-        from baobab.behaviours.registry import default_registry
+        from baobab.behaviours.builtin import default_registry
         from baobab.missions.language.loader import load_mission
 
         default_registry()
@@ -266,7 +266,7 @@ def bundled_missions() -> dict[str, str]:
 
 
 def _catalogue() -> dict[str, Any]:
-    from baobab.behaviours.registry import default_registry
+    from baobab.behaviours.builtin import default_registry
     from baobab.robots.catalog import ROBOTS
     from baobab.sim.world import bundled_world_names
 

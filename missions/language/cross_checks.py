@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from baobab.behaviours.ports import ARM, TELEOP
 from baobab.behaviours.poses import MissionScope, Pose
 from baobab.missions.language.error_codes import error_codes
-from baobab.missions.language.errors import MissionError, located, unknown_name
+from baobab.missions.language.errors import MissionError, located
 from baobab.missions.language.metric_names import metric_names, structured_metric_names
 from baobab.missions.language.models import (
     ARM_EXPECTATIONS,
@@ -31,6 +31,7 @@ from baobab.missions.language.models import (
     TeleopEvent,
 )
 from baobab.robots.catalog import RobotInfo
+from baobab.sim.errors import unknown_name
 from baobab.sim.world import MOVABLE_SLOT_COUNT
 from baobab.sim.yaml_source import KeyPath, LocatedDocument
 

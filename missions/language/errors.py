@@ -1,44 +1,24 @@
-"""Mission errors: located one-liners, name suggestions, and pydantic errors made readable."""
+"""Mission errors: located one-liners, and pydantic errors made readable.
+
+A name the file gets wrong is told with its near misses (:func:`~baobab.sim.errors.unknown_name`);
+a validator blames one key of its model with :class:`~baobab.sim.yaml_source.FieldValueError`.
+"""
 
 from __future__ import annotations
 
-import difflib
 import types
 import typing
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
-from baobab.sim.errors import MAX_VALUE_CHARS, SourceError, clip
+from baobab.sim.errors import SourceError, clip, unknown_name
 from baobab.sim.yaml_source import KeyPath, LocatedDocument
 
 
 class MissionError(SourceError):
     """A mistake in a mission file or in its ``--set`` overrides: ``path:line:col: message``."""
-
-
-MAX_LISTED_NAMES = 40
-"""An unknown name's message lists at most this many valid names."""
-
-
-def unknown_name(what: str, name: str, valid: Iterable[str], where: str = "") -> str:
-    """``unknown <what> '<name>' [in <where>]; did you mean '<close>'? valid: a, b, c``.
-
-    The name is cut to a readable length (:func:`~baobab.sim.errors.clip`), and so is the list.
-    """
-    names = sorted(set(valid))
-    close = (
-        difflib.get_close_matches(name, names, n=1, cutoff=0.6)
-        if len(name) <= MAX_VALUE_CHARS
-        else []
-    )
-    hint = f"; did you mean '{close[0]}'?" if close else ";"
-    place = f" in {where}" if where else ""
-    shown = [clip(valid_name) for valid_name in names[:MAX_LISTED_NAMES]]
-    if len(names) > MAX_LISTED_NAMES:
-        shown.append(f"... ({len(names) - MAX_LISTED_NAMES} more)")
-    return f"unknown {what} '{clip(name)}'{place}{hint} valid: {', '.join(shown) or '(none)'}"
 
 
 def data_path(data: Any, loc: Sequence[str | int]) -> KeyPath:
@@ -172,15 +152,3 @@ def located(
                 break
     line, column = document.locate(path)
     return MissionError(document.path, line, column, message)
-
-
-class FieldError(ValueError):
-    """Raised in a pydantic model validator to blame one of the model's keys.
-
-    A model validator sees the whole model, so pydantic locates its errors at the model;
-    ``key_path`` (relative to the model) lets :func:`describe_validation_error` point at the key.
-    """
-
-    def __init__(self, key_path: KeyPath, message: str) -> None:
-        super().__init__(message)
-        self.key_path = key_path

@@ -19,8 +19,14 @@ from __future__ import annotations
 
 from typing import Any
 
-from baobab.behaviours.registry import BehaviourType, NodeKind, Registry, default_registry
-from baobab.missions.language.models import NODE_SCHEMA_MARKER, MissionFile
+from baobab.behaviours.builtin import default_registry
+from baobab.behaviours.registry import (
+    NODE_SCHEMA_MARKER,
+    BehaviourType,
+    NodeKind,
+    Registry,
+)
+from baobab.missions.language.models import MissionFile
 
 SCHEMA_DIALECT = "https://json-schema.org/draft/2020-12/schema"
 PARAM_REF = {"type": "string", "pattern": r"^\$\{[A-Za-z_][A-Za-z0-9_]*\}$"}

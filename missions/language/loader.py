@@ -22,15 +22,11 @@ from typing import Any
 
 from pydantic import TypeAdapter, ValidationError
 
+from baobab.behaviours.builtin import default_registry
 from baobab.behaviours.poses import MissionScope, Pose
-from baobab.behaviours.registry import Registry, default_registry
+from baobab.behaviours.registry import Registry
 from baobab.missions.language.cross_checks import MissionChecks
-from baobab.missions.language.errors import (
-    MissionError,
-    describe_validation_error,
-    located,
-    unknown_name,
-)
+from baobab.missions.language.errors import MissionError, describe_validation_error, located
 from baobab.missions.language.models import (
     SUBSTITUTED_SECTIONS,
     TOP_LEVEL_KEYS,
@@ -49,6 +45,7 @@ from baobab.missions.language.params import (
 )
 from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
 from baobab.robots.catalog import ROBOTS, RobotInfo
+from baobab.sim.errors import unknown_name
 from baobab.sim.input_files import file_kind_problem
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
 from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml, read_yaml_text

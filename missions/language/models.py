@@ -3,7 +3,8 @@
 The behaviour tree itself (``tree:`` and each subtree's ``tree:``) is validated node by node
 by :mod:`baobab.missions.language.tree_parser` against the behaviour registry, so these models
 keep it
-as raw data and mark it with :data:`NODE_SCHEMA_MARKER` for the JSON Schema.
+as raw data and mark it with :data:`~baobab.behaviours.registry.NODE_SCHEMA_MARKER` for the JSON
+Schema.
 """
 
 from __future__ import annotations
@@ -22,11 +23,12 @@ from pydantic import (
 )
 
 from baobab.behaviours.poses import POSE_REF_SCHEMA, POSE_SCHEMA, PlanarPose, Pose, parse_pose
-from baobab.missions.language.errors import FieldError, unknown_name
+from baobab.behaviours.registry import NodeData
 from baobab.missions.language.params import PARAM_NAME_PATTERN, ParamSpec
 from baobab.robots.catalog import ROBOTS
+from baobab.sim.errors import unknown_name
 from baobab.sim.yaml_models import YamlModel
-from baobab.sim.yaml_source import empty_list
+from baobab.sim.yaml_source import FieldValueError, empty_list
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -34,10 +36,6 @@ NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Name = Annotated[str, Field(pattern=r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$", max_length=100)]
 ParamName = Annotated[str, Field(pattern=PARAM_NAME_PATTERN, max_length=100)]
 
-NODE_SCHEMA_MARKER = "x-baobab-node"
-"""Stands for ``{"$ref": "#/$defs/Node"}`` until :mod:`json_schema` assembles the schema."""
-NodeData = Annotated[Any, WithJsonSchema({NODE_SCHEMA_MARKER: True})]
-"""One behaviour-tree node as written: a single-key mapping ``{type: parameters}``."""
 
 DEFAULT_TIMEOUT = 600.0
 """Mission timeout (s of sim time) when the file gives none."""
@@ -211,7 +209,7 @@ class FaultEvent(_Strict):
     @model_validator(mode="after")
     def _instant_faults_take_no_duration(self) -> FaultEvent:
         if self.duration is not None and self.fault.kind in INSTANT_FAULTS:
-            raise FieldError(
+            raise FieldValueError(
                 ("duration",), f"a {self.fault.kind} fault happens at once; it takes no duration"
             )
         return self
@@ -259,7 +257,7 @@ class Bounds(_Strict):
         if self.min is None and self.max is None:
             raise ValueError("give min, max or both")
         if self.min is not None and self.max is not None and self.min > self.max:
-            raise FieldError(("max",), f"max {self.max:g} is below min {self.min:g}")
+            raise FieldValueError(("max",), f"max {self.max:g} is below min {self.min:g}")
         return self
 
 
@@ -308,7 +306,9 @@ class Expect(_Strict):
     @model_validator(mode="after")
     def _code_needs_failure(self) -> Expect:
         if self.error_code is not None and self.result != "FAILED":
-            raise FieldError(("error_code",), "error_code is only meaningful with result: FAILED")
+            raise FieldValueError(
+                ("error_code",), "error_code is only meaningful with result: FAILED"
+            )
         return self
 
 

@@ -18,10 +18,10 @@ from typing import Any, Literal
 from pydantic import ConfigDict, Field, ValidationError, model_validator
 
 from baobab.behaviours.poses import parse_pose
-from baobab.missions.language.errors import FieldError, MissionError, located, unknown_name
-from baobab.sim.errors import SourceError, clip
+from baobab.missions.language.errors import MissionError, located
+from baobab.sim.errors import SourceError, clip, unknown_name
 from baobab.sim.yaml_models import YamlModel
-from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml
+from baobab.sim.yaml_source import FieldValueError, KeyPath, LocatedDocument, load_located_yaml
 
 ParamType = Literal["int", "float", "str", "bool", "pose"]
 PARAM_NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]*$"
@@ -50,24 +50,24 @@ class ParamSpec(YamlModel):
         numeric = self.type in ("int", "float")
         for bound in ("min", "max"):
             if getattr(self, bound) is not None and not numeric:
-                raise FieldError((bound,), f"'{bound}' applies to int and float parameters")
+                raise FieldValueError((bound,), f"'{bound}' applies to int and float parameters")
         if self.min is not None and self.max is not None and self.min > self.max:
-            raise FieldError(("max",), f"max {self.max:g} is below min {self.min:g}")
+            raise FieldValueError(("max",), f"max {self.max:g} is below min {self.min:g}")
         if self.choices is not None:
             if self.type in ("bool", "pose"):
-                raise FieldError(("choices",), f"'choices' does not apply to {self.type}")
+                raise FieldValueError(("choices",), f"'choices' does not apply to {self.type}")
             for index, choice in enumerate(self.choices):
                 try:
                     self._typed(choice)
                 except ValueError as exc:
-                    raise FieldError(("choices", index), str(exc)) from None
+                    raise FieldValueError(("choices", index), str(exc)) from None
             if len({repr(c) for c in self.choices}) != len(self.choices):
-                raise FieldError(("choices",), "choices repeat a value")
+                raise FieldValueError(("choices",), "choices repeat a value")
         if self.default is not None:
             try:
                 self.check(self.default)
             except ValueError as exc:
-                raise FieldError(("default",), str(exc)) from None
+                raise FieldValueError(("default",), str(exc)) from None
         return self
 
     @property

@@ -29,7 +29,8 @@ import py_trees
 from pydantic.fields import FieldInfo
 from pydantic_core import PydanticUndefined
 
-from baobab.behaviours.registry import BehaviourType, NodeKind, Registry, default_registry
+from baobab.behaviours.builtin import default_registry
+from baobab.behaviours.registry import BehaviourType, NodeKind, Registry
 from baobab.missions.language.btcpp_limits import check_expressible
 from baobab.missions.language.btcpp_ports import (
     MSEC_TYPE,

@@ -18,14 +18,10 @@ from pydantic import ValidationError
 
 from baobab.behaviours.poses import SCOPE_KEY, MissionScope
 from baobab.behaviours.registry import BehaviourType, NodeKind, NodeParams, Registry, node_label
-from baobab.missions.language.errors import (
-    MissionError,
-    describe_validation_error,
-    located,
-    unknown_name,
-)
+from baobab.missions.language.errors import MissionError, describe_validation_error, located
 from baobab.missions.language.models import SubtreeSpec
 from baobab.missions.language.params import Substitution
+from baobab.sim.errors import unknown_name
 from baobab.sim.yaml_source import KeyPath, LocatedDocument
 
 MAX_TREE_NODES = 10_000

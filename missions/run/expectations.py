@@ -15,10 +15,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from baobab.missions.language.errors import located, unknown_name
+from baobab.missions.language.errors import located
 from baobab.missions.language.loader import Mission
 from baobab.missions.language.models import Bounds, Expect, FinalPoseNear, ObjectPlaced
 from baobab.missions.run.metrics import MetricValue, numeric
+from baobab.sim.errors import unknown_name
 
 
 @dataclass(frozen=True)
