@@ -14,7 +14,7 @@ from baobab.missions.cli.run_command import resolve_mission
 from baobab.missions.language.compiler import compile_mission
 from baobab.missions.language.json_schema import mission_json_schema
 from baobab.missions.language.loader import load_mission
-from baobab.missions.run.plotting import MobilePlot
+from baobab.missions.run.plot_data import MobilePlot
 from baobab.missions.run.runner import run_mission
 
 FOLDER = Path(str(resources.files("baobab.missions")))

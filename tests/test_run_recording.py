@@ -37,7 +37,8 @@ from baobab.missions.cli.run_command import resolve_mission
 from baobab.missions.language.compiler import compile_mission
 from baobab.missions.language.loader import load_mission
 from baobab.missions.language.tree_export import BUILTIN_MODELS, preorder, to_btcpp, to_btcpp_log
-from baobab.missions.run.plotting import ArmPlot, save_plot
+from baobab.missions.run.plot_data import ArmPlot
+from baobab.missions.run.plotting import save_plot
 from baobab.missions.run.runner import RecordingOptions, run_mission
 
 BAOBAB = str(Path(sys.executable).parent / "baobab")

@@ -56,7 +56,7 @@ EXIT_NOT_SAVED = 3
 """The run ran, but neither its run folder nor the fallback folder could be written."""
 
 if TYPE_CHECKING:
-    from baobab.missions.run.plotting import PlotData
+    from baobab.missions.run.plot_data import PlotData
     from baobab.missions.run.progress_display import LineProgress, LiveProgress, ProgressSnapshot
     from baobab.missions.run.runner import RunRecord
     from baobab.missions.testing.baseline import Baseline

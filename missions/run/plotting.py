@@ -5,26 +5,25 @@ navigation ran, planned paths, the driven trajectory coloured by sim time, where
 was smallest, Bug2's hit and leave points, goals and named locations. An arm run shows the
 tool path coloured by sim time with the impedance set-point it followed and the objects' paths
 in 3D, next to the tracking error (tool to set-point) over time. matplotlib (Agg) is imported
-only when a plot is drawn, so runs that write no folder never pay for it.
+only when a plot is drawn, so runs that write no folder never pay for it. What a plot shows is
+gathered during the run into :mod:`baobab.missions.run.plot_data`.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from baobab.missions.run.events import PlacedObstacle
+from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
 from baobab.sim.world import World
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-Point = tuple[float, float]
 MANY_GOALS = 12
 """With more goals than this, goal markers and labels are drawn smaller."""
 MAX_TRAJECTORY_POINTS = 2000
@@ -34,62 +33,6 @@ FLOOR_TINT = 0.35
 COSTMAP_CMAP = "Purples"
 COSTMAP_ALPHA = 0.45
 OBSTACLE_EDGE = (0.2, 0.2, 0.2)
-
-
-@dataclass(frozen=True)
-class CostmapImage:
-    """A costmap raster: ``data[iy, ix]`` (0-255 Nav2 costs), lower-left origin (m), cell (m)."""
-
-    data: np.ndarray
-    origin: Point
-    resolution: float
-
-
-@dataclass
-class MobilePlot:
-    """What a mobile run's plot shows (map frame, m)."""
-
-    title: str
-    world: World
-    times: Sequence[float]
-    xs: Sequence[float]
-    ys: Sequence[float]
-    locations: dict[str, Point] = field(default_factory=dict)
-    goals: list[tuple[str, Point]] = field(default_factory=list)
-    obstacles: list[PlacedObstacle] = field(default_factory=list)
-    costmap: CostmapImage | None = None
-    planned_paths: list[np.ndarray] = field(default_factory=list)
-    hit_points: list[Point] = field(default_factory=list)
-    leave_points: list[Point] = field(default_factory=list)
-    min_clearance_at: Point | None = None
-
-
-@dataclass
-class ArmPlot:
-    """What an arm run's plot shows (world frame, m).
-
-    Attributes:
-        title: the figure title.
-        tcp_path: the tool centre point, densely sampled.
-        object_paths: each free object's path.
-        targets: labelled target positions.
-        tracking_times: sim times (s) of the tracking samples.
-        tracking_tcp: the tool at those times.
-        setpoint_path: the impedance controller's set-point at those times.
-        tracking_errors: tool to set-point distance (m) at those times.
-    """
-
-    title: str
-    tcp_path: Sequence[tuple[float, float, float]]
-    object_paths: dict[str, Sequence[tuple[float, float, float]]] = field(default_factory=dict)
-    targets: list[tuple[str, tuple[float, float, float]]] = field(default_factory=list)
-    tracking_times: Sequence[float] = field(default_factory=list)
-    tracking_tcp: Sequence[tuple[float, float, float]] = field(default_factory=list)
-    setpoint_path: Sequence[tuple[float, float, float]] = field(default_factory=list)
-    tracking_errors: Sequence[float] = field(default_factory=list)
-
-
-PlotData = MobilePlot | ArmPlot
 
 
 def save_plot(data: PlotData, path: Path) -> None:
@@ -120,52 +63,82 @@ def save_plot(data: PlotData, path: Path) -> None:
 
 
 def _mobile(axes: Axes, data: MobilePlot) -> None:
-    import matplotlib
+    """The map view, layer by layer from the floor up."""
     from matplotlib import patheffects
-    from matplotlib.collections import LineCollection
-    from matplotlib.colors import ListedColormap, NoNorm
-    from matplotlib.patches import Circle, Polygon, Rectangle
 
     halo = [patheffects.withStroke(linewidth=2.5, foreground="white")]
-    world = data.world
+    x_min, y_min, x_max, y_max = data.world.bounds
+    _floor(axes, data.world)
+    if data.costmap is not None:
+        _costmap(axes, data.costmap, (x_min, y_min))
+    _obstacles(axes, data, halo)
+    _planned_paths(axes, data.planned_paths)
+    if len(data.xs) > 1:
+        _trajectory(axes, data)
+    _markers(axes, data)
+    _locations(axes, data, halo)
+    _goals(axes, data, halo)
+    axes.set_xlim(x_min - 0.2, x_max + 0.2)
+    axes.set_ylim(y_min - 0.2, y_max + 0.2)
+    axes.set_aspect("equal")
+    axes.set_xlabel("x (m)")
+    axes.set_ylabel("y (m)")
+    axes.set_title(data.title, fontsize=10)
+    axes.figure.legend(loc="outside lower center", ncol=7, fontsize=7)
+
+
+def _floor(axes: Axes, world: World) -> None:
+    from matplotlib.patches import Rectangle
+
     x_min, y_min, x_max, y_max = world.bounds
     # A pale floor lets the costmap, the paths and light-coloured obstacles stand out.
     floor_colour = FLOOR_TINT * np.asarray(world.floor.colour[:3]) + (1 - FLOOR_TINT)
     axes.add_patch(
         Rectangle((x_min, y_min), x_max - x_min, y_max - y_min, color=floor_colour, zorder=0)
     )
-    if data.costmap is not None:
-        image = data.costmap
-        height, width = image.data.shape
-        # The costs index a colour table whose alpha makes free cells transparent; resampled
-        # as data, the image costs ~15 MB at the figure's pixel size, where a masked array
-        # resampled as RGBA colours (matplotlib's choice below 3 pixels a cell) cost ~70 MB.
-        colours = matplotlib.colormaps[COSTMAP_CMAP](np.arange(256))
-        colours[:, 3] = np.where(np.arange(256) > 0, COSTMAP_ALPHA, 0.0)
-        axes.imshow(
-            image.data,
-            origin="lower",
-            extent=(
-                image.origin[0],
-                image.origin[0] + width * image.resolution,
-                image.origin[1],
-                image.origin[1] + height * image.resolution,
-            ),
-            cmap=ListedColormap(colours),
-            norm=NoNorm(),
-            zorder=1,
-            interpolation="nearest",
-            interpolation_stage="data",
-        )
-        colour = matplotlib.colormaps[COSTMAP_CMAP](0.8)
-        legend_only = Rectangle((x_min, y_min), 0, 0, color=colour, alpha=COSTMAP_ALPHA)
-        legend_only.set_label("inflated costmap")
-        axes.add_patch(legend_only)
+
+
+def _costmap(axes: Axes, image: CostmapImage, corner: tuple[float, float]) -> None:
+    import matplotlib
+    from matplotlib.colors import ListedColormap, NoNorm
+    from matplotlib.patches import Rectangle
+
+    height, width = image.data.shape
+    # The costs index a colour table whose alpha makes free cells transparent; resampled
+    # as data, the image costs ~15 MB at the figure's pixel size, where a masked array
+    # resampled as RGBA colours (matplotlib's choice below 3 pixels a cell) cost ~70 MB.
+    colours = matplotlib.colormaps[COSTMAP_CMAP](np.arange(256))
+    colours[:, 3] = np.where(np.arange(256) > 0, COSTMAP_ALPHA, 0.0)
+    axes.imshow(
+        image.data,
+        origin="lower",
+        extent=(
+            image.origin[0],
+            image.origin[0] + width * image.resolution,
+            image.origin[1],
+            image.origin[1] + height * image.resolution,
+        ),
+        cmap=ListedColormap(colours),
+        norm=NoNorm(),
+        zorder=1,
+        interpolation="nearest",
+        interpolation_stage="data",
+    )
+    colour = matplotlib.colormaps[COSTMAP_CMAP](0.8)
+    legend_only = Rectangle(corner, 0, 0, color=colour, alpha=COSTMAP_ALPHA)
+    legend_only.set_label("inflated costmap")
+    axes.add_patch(legend_only)
+
+
+def _obstacles(axes: Axes, data: MobilePlot, halo: list[Any]) -> None:
+    """The world's boxes and cylinders, and the obstacles events placed (hatched, named)."""
+    from matplotlib.patches import Circle, Polygon
+
     edge: dict[str, Any] = {"ec": OBSTACLE_EDGE, "lw": 0.6, "zorder": 2}
-    for box in world.boxes:
+    for box in data.world.boxes:
         corners = _box_corners(box.center, box.size, box.yaw)
         axes.add_patch(Polygon(corners, fc=box.colour[:3], **edge))
-    for cylinder in world.cylinders:
+    for cylinder in data.world.cylinders:
         axes.add_patch(Circle(cylinder.center, cylinder.radius, fc=cylinder.colour[:3], **edge))
     for obstacle in data.obstacles:
         corners = _box_corners((obstacle.x, obstacle.y), obstacle.size[:2], obstacle.yaw)
@@ -178,7 +151,11 @@ def _mobile(axes: Axes, data: MobilePlot) -> None:
             zorder=6,
             path_effects=halo,
         )
-    for index, path in enumerate(data.planned_paths):
+
+
+def _planned_paths(axes: Axes, paths: Sequence[np.ndarray]) -> None:
+    """Every distinct plan, the first one strongest."""
+    for index, path in enumerate(paths):
         if len(path):
             axes.plot(
                 path[:, 0],
@@ -190,24 +167,33 @@ def _mobile(axes: Axes, data: MobilePlot) -> None:
                 zorder=3,
                 label="planned paths" if index == 0 else None,
             )
-    if len(data.xs) > 1:
-        count = len(data.xs)
-        kept = np.unique(np.r_[0 : count : max(1, count // MAX_TRAJECTORY_POINTS), count - 1])
-        xs, ys = np.asarray(data.xs)[kept], np.asarray(data.ys)[kept]
-        times = np.asarray(data.times, dtype=float)[kept]
-        points = np.column_stack((xs, ys)).reshape(-1, 1, 2)
-        segments = np.concatenate((points[:-1], points[1:]), axis=1)
-        line = LineCollection(list(segments), cmap="viridis", linewidths=2.6, zorder=4)
-        line.set_array(times[1:])
-        axes.add_collection(line)
-        figure: Any = axes.figure
-        colourbar = figure.colorbar(line, ax=axes, shrink=0.7)
-        colourbar.set_label("sim time (s)")
-        start, end = (data.xs[0], data.ys[0]), (data.xs[-1], data.ys[-1])
-        # A ring, above the goal markers: missions often start where they end.
-        ring: dict[str, Any] = {"mfc": "none", "mec": "black", "mew": 1.8, "ms": 12}
-        axes.plot(*start, "o", **ring, zorder=5.5, label="start")
-        axes.plot(*end, "s", color="black", ms=5, zorder=5.5, label="end")
+
+
+def _trajectory(axes: Axes, data: MobilePlot) -> None:
+    """The driven path coloured by sim time (thinned), with its start and end."""
+    from matplotlib.collections import LineCollection
+
+    count = len(data.xs)
+    kept = np.unique(np.r_[0 : count : max(1, count // MAX_TRAJECTORY_POINTS), count - 1])
+    xs, ys = np.asarray(data.xs)[kept], np.asarray(data.ys)[kept]
+    times = np.asarray(data.times, dtype=float)[kept]
+    points = np.column_stack((xs, ys)).reshape(-1, 1, 2)
+    segments = np.concatenate((points[:-1], points[1:]), axis=1)
+    line = LineCollection(list(segments), cmap="viridis", linewidths=2.6, zorder=4)
+    line.set_array(times[1:])
+    axes.add_collection(line)
+    figure: Any = axes.figure
+    colourbar = figure.colorbar(line, ax=axes, shrink=0.7)
+    colourbar.set_label("sim time (s)")
+    start, end = (data.xs[0], data.ys[0]), (data.xs[-1], data.ys[-1])
+    # A ring, above the goal markers: missions often start where they end.
+    ring: dict[str, Any] = {"mfc": "none", "mec": "black", "mew": 1.8, "ms": 12}
+    axes.plot(*start, "o", **ring, zorder=5.5, label="start")
+    axes.plot(*end, "s", color="black", ms=5, zorder=5.5, label="end")
+
+
+def _markers(axes: Axes, data: MobilePlot) -> None:
+    """Bug2's hit and leave points, and where the clearance was smallest."""
     for label, points_list, marker in (
         ("hit point", data.hit_points, "x"),
         ("leave point", data.leave_points, "+"),
@@ -225,6 +211,10 @@ def _mobile(axes: Axes, data: MobilePlot) -> None:
             zorder=5,
             label="min clearance",
         )
+
+
+def _locations(axes: Axes, data: MobilePlot, halo: list[Any]) -> None:
+    """Named locations that are not goals: a dot and the name."""
     goal_names = {label for label, _ in data.goals}
     for name, (x, y) in data.locations.items():
         if name in goal_names:
@@ -240,6 +230,10 @@ def _mobile(axes: Axes, data: MobilePlot) -> None:
             zorder=6,
             path_effects=halo,
         )
+
+
+def _goals(axes: Axes, data: MobilePlot, halo: list[Any]) -> None:
+    """The tree's goals as stars, numbered in tree order."""
     many = len(data.goals) > MANY_GOALS
     for index, (label, (x, y)) in enumerate(data.goals):
         axes.plot(
@@ -264,13 +258,6 @@ def _mobile(axes: Axes, data: MobilePlot) -> None:
             zorder=6,
             path_effects=halo,
         )
-    axes.set_xlim(x_min - 0.2, x_max + 0.2)
-    axes.set_ylim(y_min - 0.2, y_max + 0.2)
-    axes.set_aspect("equal")
-    axes.set_xlabel("x (m)")
-    axes.set_ylabel("y (m)")
-    axes.set_title(data.title, fontsize=10)
-    axes.figure.legend(loc="outside lower center", ncol=7, fontsize=7)
 
 
 def _box_corners(center: Sequence[float], size: Sequence[float], yaw: float) -> np.ndarray:

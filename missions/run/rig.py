@@ -19,7 +19,7 @@ import numpy as np
 from baobab.behaviours.ports import NAVIGATION, Capabilities, NavigationPort
 from baobab.behaviours.poses import Pose
 from baobab.missions.language.loader import Mission
-from baobab.missions.run.events import ObstacleSlots, TeleopChannel
+from baobab.missions.run.event_targets import ObstacleSlots, TeleopChannel
 from baobab.missions.run.metrics import (
     ArmProbe,
     MetricRegistry,
@@ -27,7 +27,7 @@ from baobab.missions.run.metrics import (
     TrackingProbe,
     register_teleop_metrics,
 )
-from baobab.missions.run.plotting import ArmPlot, CostmapImage, MobilePlot, PlotData
+from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
 from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
 from baobab.robots.turtlebot3.robot import TurtleBot3
 from baobab.sim.errors import BaobabError

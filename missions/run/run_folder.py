@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 from baobab.missions.run.output_checks import OutputError, check_output_folder
 
 if TYPE_CHECKING:
-    from baobab.missions.run.plotting import PlotData
+    from baobab.missions.run.plot_data import PlotData
 
 RESULT_FILE = "result.json"
 TRACE_FILE = "trace.jsonl"

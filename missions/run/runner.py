@@ -35,7 +35,7 @@ from baobab.missions.run.expectations import (
 from baobab.missions.run.fault_monitors import fault_monitors
 from baobab.missions.run.faults import fault_injector
 from baobab.missions.run.metrics import MetricValue
-from baobab.missions.run.plotting import PlotData
+from baobab.missions.run.plot_data import PlotData
 from baobab.missions.run.recording_hook import RecordingHook, RecordingOptions
 from baobab.missions.run.rig import build_rig
 from baobab.missions.run.tick_loop import LoopOutcome, MissionErrorCode, ProgressSink, RunLoop
