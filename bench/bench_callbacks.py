@@ -17,7 +17,7 @@ from collections.abc import Callable
 
 import mujoco
 
-from baobab.missions.cli.run_command import resolve_mission
+from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.loader import load_mission
 from baobab.missions.run.runner import run_mission
 from baobab.sim import simulation

@@ -31,7 +31,7 @@ from baobab.missions.campaigns.executors import (
 )
 from baobab.missions.campaigns.results import ResultsTable, read_rows
 from baobab.missions.campaigns.spec import CampaignSpec, build_spec
-from baobab.missions.cli.run_command import resolve_mission
+from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.loader import load_mission
 
 VARY = ["start.x=uniform(-0.05,0.05)", "start.y=uniform(-0.05,0.05)"]

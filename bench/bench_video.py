@@ -16,7 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from baobab.missions.cli.run_command import resolve_mission
+from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.loader import load_mission
 from baobab.missions.run.runner import RecordingOptions, run_mission
 from baobab.sim import camera, chase_camera, rendering

@@ -76,7 +76,7 @@ def _compiled_env(cache: str) -> dict[str, str]:
 
 
 def _bundled(name: str) -> Path:
-    from baobab.missions.cli.run_command import resolve_mission
+    from baobab.missions.language.bundled_missions import resolve_mission
 
     return Path(resolve_mission(name))
 

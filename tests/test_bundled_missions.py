@@ -10,7 +10,7 @@ import pytest
 
 from baobab.behaviours.navigation_nodes import NavigateThroughPosesParams
 from baobab.behaviours.ports import Capabilities
-from baobab.missions.cli.run_command import resolve_mission
+from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.compiler import compile_mission
 from baobab.missions.language.json_schema import mission_json_schema
 from baobab.missions.language.loader import load_mission

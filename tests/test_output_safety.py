@@ -23,8 +23,8 @@ import pytest
 from filesystems import fill, make_read_only, tmpfs
 
 from baobab.missions.cli.command_line import main
-from baobab.missions.cli.run_command import EXIT_NOT_SAVED
 from baobab.missions.run import run_folder as run_folder_module
+from baobab.missions.run.exit_codes import EXIT_NOT_SAVED
 from baobab.missions.run.output_checks import MIN_FREE_BYTES
 from baobab.missions.run.run_folder import PLOT_FILE, RESULT_FILE, TRACE_FILE, write_run_folder
 from baobab.missions.testing import baseline as baseline_module

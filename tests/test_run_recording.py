@@ -33,7 +33,7 @@ from baobab.behaviours.builtin import default_registry
 from baobab.behaviours.ports import Capabilities
 from baobab.behaviours.registry import NodeKind
 from baobab.missions.cli.command_line import main
-from baobab.missions.cli.run_command import resolve_mission
+from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.compiler import compile_mission
 from baobab.missions.language.loader import load_mission
 from baobab.missions.language.tree_export import BUILTIN_MODELS, preorder, to_btcpp, to_btcpp_log

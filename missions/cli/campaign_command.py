@@ -34,9 +34,11 @@ from baobab.missions.campaigns.results import (
 )
 from baobab.missions.campaigns.spec import CampaignSpec, build_spec
 from baobab.missions.campaigns.vary import CampaignError
-from baobab.missions.cli.run_command import resolve_mission
+from baobab.missions.cli.arguments import add_set, positive_int
+from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.errors import MissionError
 from baobab.missions.language.loader import load_mission
+from baobab.missions.run.exit_codes import EXIT_INTERRUPTED, EXIT_NOT_INTENDED, EXIT_OK
 from baobab.missions.run.run_folder import check_run_folder, default_run_folder
 from baobab.sim.yaml_source import read_yaml_text
 
@@ -48,7 +50,52 @@ if TYPE_CHECKING:
 # second.
 
 CAMPAIGNS_ROOT = Path("campaigns")
-EXIT_OK, EXIT_NOT_INTENDED, EXIT_INTERRUPTED = 0, 1, 130
+
+
+def configure_campaign(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``baobab campaign``."""
+    parser.add_argument(
+        "mission", metavar="MISSION", help="a mission file, or the name of a bundled mission"
+    )
+    parser.add_argument(
+        "--runs",
+        type=positive_int,
+        help="seeded runs; with grid axes, runs per grid cell (default 1)",
+    )
+    parser.add_argument(
+        "--vary",
+        action="append",
+        default=[],
+        metavar="KEY=DIST",
+        help="vary a parameter (table), start.x/y/yaw (offsets), noise.lidar_std or "
+        "events.N.KIND.FIELD: uniform(a,b), normal(mu,sigma), randint(a,b), choice(v1,v2,...), "
+        "grid(a,b,n) (repeatable)",
+    )
+    parser.add_argument(
+        "--grid",
+        action="append",
+        default=[],
+        metavar="KEY=V1,V2,...",
+        help="a grid axis of listed values; grid axes combine as a cartesian product (repeatable)",
+    )
+    add_set(parser)
+    parser.add_argument(
+        "--seed",
+        type=int,
+        help="campaign seed; each run's seed derives from it (default: mission's)",
+    )
+    parser.add_argument(
+        "--workers", type=positive_int, help="local worker processes (default: one per core)"
+    )
+    parser.add_argument(
+        "--scheduler",
+        metavar="tcp://HOST:PORT",
+        help='run on a Dask cluster (needs pip install "baobab[campaign]")',
+    )
+    parser.add_argument(
+        "--out", type=Path, help="campaign folder (default: campaigns/<mission>-<time>)"
+    )
+    parser.add_argument("--json", action="store_true", help="one JSON summary on stdout")
 
 
 def campaign_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:

@@ -14,10 +14,9 @@ import argparse
 import math
 import sys
 
+from baobab.missions.run.exit_codes import EXIT_INVALID
 from baobab.sim.errors import BaobabError, clip, one_line
 from baobab.sim.world import Pose2D, World, load_world
-
-EXIT_INVALID = 2
 
 
 class Nav2ArgumentError(BaobabError):

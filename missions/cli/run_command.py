@@ -27,21 +27,25 @@ paced to the wall clock.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import importlib.util
 import json
 import os
 import sys
-import tempfile
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
-from importlib import resources
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from baobab.missions.cli.command_line import EXIT_NOT_INTENDED
+from baobab.missions.cli.arguments import add_set, port, positive_int, video_size
 from baobab.missions.cli.interrupts import RunSignals
+from baobab.missions.cli.run_job import (
+    FinishedRun,
+    save_run,
+    shower,
+    simulation_job,
+)
+from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.loader import Mission, load_mission
+from baobab.missions.run.exit_codes import EXIT_NOT_INTENDED, EXIT_NOT_SAVED
 from baobab.missions.run.output_checks import check_output_file
 from baobab.missions.run.recording_hook import (
     DEFAULT_FPS,
@@ -52,47 +56,9 @@ from baobab.missions.run.recording_hook import (
 )
 from baobab.sim.errors import BaobabError
 
-EXIT_NOT_SAVED = 3
-"""The run ran, but neither its run folder nor the fallback folder could be written."""
-
 if TYPE_CHECKING:
-    from baobab.missions.run.plot_data import PlotData
-    from baobab.missions.run.progress_display import LineProgress, LiveProgress, ProgressSnapshot
-    from baobab.missions.run.runner import RunRecord
+    from baobab.missions.run.progress_display import LineProgress, LiveProgress
     from baobab.missions.testing.baseline import Baseline
-
-
-class MissionNotFoundError(BaobabError):
-    """MISSION is neither a file nor a bundled mission."""
-
-
-def bundled_mission_path(name: str) -> Path | None:
-    """The file of bundled mission ``name`` (``missions/<name>.yaml``), or None."""
-    entry = resources.files("baobab.missions") / f"{name}.yaml"
-    return Path(str(entry)) if entry.is_file() else None
-
-
-def resolve_mission(text: str) -> Path:
-    """MISSION as a file path, or as the name of a bundled mission.
-
-    Raises:
-        MissionNotFoundError: when it is neither.
-    """
-    path = Path(text)
-    looks_like_a_path = "/" in text or "\\" in text or text.endswith((".yaml", ".yml"))
-    if path.is_file() or looks_like_a_path:
-        return path  # a missing file or a folder: the loader reports it as path:1:1
-    bundled = bundled_mission_path(text)
-    if bundled is not None:
-        return bundled
-    folder = resources.files("baobab.missions")
-    names = sorted(
-        e.name.removesuffix(".yaml") for e in folder.iterdir() if e.name.endswith(".yaml")
-    )
-    raise MissionNotFoundError(
-        f"no mission file '{text}' and no bundled mission of that name "
-        f"(bundled: {', '.join(names) or 'none'})"
-    )
 
 
 _ROBOT_KERNELS = {
@@ -119,6 +85,72 @@ def kernels_cached(robot: str) -> bool:
     if cache_dir:
         return any(Path(cache_dir).rglob(pattern))
     return any((Path(spec.origin).parent / "__pycache__").glob(pattern))
+
+
+def configure_run(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``baobab run``."""
+    parser.add_argument(
+        "mission", metavar="MISSION", help="a mission file, or the name of a bundled mission"
+    )
+    add_set(parser)
+    parser.add_argument("--seed", type=int, help="override the mission's seed")
+    parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
+    parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
+    parser.add_argument("--realtime", action="store_true", help="pace the sim to the wall clock")
+    parser.add_argument(
+        "--baseline",
+        type=Path,
+        metavar="FILE",
+        help="compare sim time, path length and recoveries with FILE (created if missing)",
+    )
+    seeing = parser.add_argument_group("seeing what happened")
+    seeing.add_argument(
+        "--record",
+        type=Path,
+        metavar="FILE.mcap",
+        help="record the run as MCAP (open it in Foxglove or PlotJuggler)",
+    )
+    seeing.add_argument(
+        "--live",
+        action="store_true",
+        help="serve the run to Foxglove over WebSocket, paced to the wall clock",
+    )
+    seeing.add_argument(
+        "--host", metavar="HOST", help=f"live server address (default {DEFAULT_HOST})"
+    )
+    seeing.add_argument(
+        "--port",
+        type=port,
+        metavar="PORT",
+        help=f"live server port (default {DEFAULT_PORT}; 0 picks a free one)",
+    )
+    seeing.add_argument(
+        "--video",
+        type=Path,
+        metavar="FILE.mp4",
+        help='film the run as H.264 MP4 (needs pip install "baobab[video]")',
+    )
+    seeing.add_argument(
+        "--fps",
+        type=positive_int,
+        metavar="N",
+        help=f"video frames per second of sim time (default {DEFAULT_FPS})",
+    )
+    seeing.add_argument(
+        "--video-size",
+        type=video_size,
+        metavar="WxH",
+        help="video size in pixels, both even (default {}x{})".format(*DEFAULT_VIDEO_SIZE),
+    )
+    seeing.add_argument(
+        "--viewer", action="store_true", help="show the MuJoCo viewer (needs a display)"
+    )
+    seeing.add_argument(
+        "--btlog",
+        type=Path,
+        metavar="FILE.btlog",
+        help="log the tree's status changes for Groot2's log viewer",
+    )
 
 
 def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
@@ -188,8 +220,8 @@ def _run_and_save(
             )
         if not args.json:
             progress.phase(_starting(mission.robot.name))
-        simulate = _simulation(args, mission, recording, baseline, folder, progress, signals)
-        show = _shower(progress)
+        simulate = simulation_job(args, mission, recording, baseline, folder, progress, signals)
+        show = shower(progress)
         try:
             if fork_is_safe():
                 finished = run_in_child(simulate, show, on_signal=signals.note)
@@ -213,90 +245,6 @@ def _starting(robot: str) -> str:
     return "starting: compiling baobab's kernels (first run on this machine, about a minute)..."
 
 
-def _simulation(
-    args: argparse.Namespace,
-    mission: Mission,
-    recording: RecordingOptions,
-    baseline: Baseline | None,
-    folder: Path,
-    progress: LineProgress | LiveProgress,
-    signals: RunSignals,
-) -> Callable[[Callable[[RunMessage], None]], FinishedRun]:
-    """The run as a job for :func:`~baobab.missions.run.child_process.run_in_child`."""
-
-    def simulate(send: Callable[[RunMessage], None]) -> FinishedRun:
-        """The run, in its own process: progress and warnings go to ``send``."""
-        from baobab.missions.run.runner import run_mission
-
-        record = run_mission(
-            mission,
-            seed=args.seed,
-            progress=ForwardedProgress(progress, send),
-            realtime=args.realtime,
-            recording=recording,
-            interrupted=signals.reason,
-            warn=lambda message: send(("warn", message)),
-        )
-        if args.baseline is not None:
-            _baseline(record, args.baseline, baseline, lambda note: send(("note", note)))
-        exit_code = signals.exit_code(record.exit_code)
-        trace = record.trace.text()
-        return FinishedRun(record.result_object(folder), trace, record.plot, exit_code)
-
-    return simulate
-
-
-def _shower(progress: LineProgress | LiveProgress) -> Callable[[RunMessage], None]:
-    """Shows what the run's process sends: progress, warnings, notes."""
-
-    def show(message: RunMessage) -> None:
-        kind, payload = message
-        if kind == "progress":
-            progress.draw(payload)
-        elif kind == "warn":
-            _warn(payload)
-        else:
-            print(payload, file=sys.stderr)
-
-    return show
-
-
-def save_run(folder: Path, finished: FinishedRun) -> Path | None:
-    """Write the run folder; where that fails, into a fallback folder the message names.
-
-    Returns:
-        Where the folder was written, or None when nowhere (said on stderr); the result's
-        ``run_folder`` says the same.
-    """
-    from baobab.missions.run.run_folder import RunFolderError, write_run_folder
-
-    result = finished.result
-    try:
-        return write_run_folder(folder, result, finished.trace_text, finished.plot)
-    except RunFolderError as error:  # something else wrote into it meanwhile
-        first = f"could not write the run folder: {error}"
-    except OSError as error:
-        first = f"could not write the run folder {folder}: {error.strerror or error}"
-    fallback: Path | None = None
-    try:
-        fallback = Path(tempfile.mkdtemp(prefix=f"baobab-{folder.name or 'run'}-"))
-        result["run_folder"] = str(fallback)
-        write_run_folder(fallback, result, finished.trace_text, finished.plot)
-    except OSError as error:
-        result["run_folder"] = None
-        if fallback is not None:
-            with contextlib.suppress(OSError):
-                fallback.rmdir()
-        place = tempfile.gettempdir() if fallback is None else fallback.parent
-        _warn(
-            f"{first}; nor a fallback folder in {place}: {error.strerror or error}; "
-            f"the run is not saved (exit {EXIT_NOT_SAVED})"
-        )
-        return None
-    _warn(f"{first}; written to {fallback} instead")
-    return fallback
-
-
 def _report(args: argparse.Namespace, result: Mapping[str, Any]) -> None:
     """The result on stdout: one JSON object (``--json``) or the summary table."""
     from baobab.missions.run.progress_display import print_summary
@@ -307,35 +255,6 @@ def _report(args: argparse.Namespace, result: Mapping[str, Any]) -> None:
         print_summary(sys.stdout, result, rich=sys.stdout.isatty())
         _print_recording(result.get("recording", {}))
     sys.stdout.flush()
-
-
-RunMessage = tuple[str, Any]
-"""What the run's process tells this one: ("progress", snapshot), ("warn", text), ("note", text)."""
-
-
-@dataclass(frozen=True)
-class FinishedRun:
-    """What the run's process sends back: all the run folder and the report need."""
-
-    result: dict[str, Any]
-    trace_text: str
-    plot: PlotData | None
-    exit_code: int
-
-
-class ForwardedProgress:
-    """Sends the snapshots ``display`` would show (its ``due``) to be drawn by the parent."""
-
-    def __init__(
-        self, display: LineProgress | LiveProgress, send: Callable[[RunMessage], None]
-    ) -> None:
-        self.display = display
-        self.send = send
-
-    def update(self, snapshot: ProgressSnapshot) -> None:
-        """Send ``snapshot`` when the display shows it."""
-        if self.display.due(snapshot):
-            self.send(("progress", snapshot))
 
 
 def _print_recording(outputs: Mapping[str, object]) -> None:
@@ -390,36 +309,3 @@ def recording_options(args: argparse.Namespace) -> RecordingOptions:
         btlog=args.btlog,
         viewer=args.viewer,
     )
-
-
-def _warn(message: str) -> None:
-    print(f"baobab run: {message}", file=sys.stderr)
-
-
-def _baseline(
-    record: RunRecord, path: Path, baseline: Baseline | None, note: Callable[[str], None]
-) -> None:
-    """Compare with the baseline, or create it from a run that turned out as intended."""
-    from baobab.missions.testing.baseline import compare, write_baseline
-
-    if baseline is not None:
-        record.add_expectations(compare(baseline, record.metrics))
-        record.extra["baseline"] = {"file": str(path), "status": "compared"}
-        return
-    if record.intended and not record.outcome.interrupted:
-        try:
-            write_baseline(
-                path, record.mission.name, record.seed, record.mission.params, record.metrics
-            )
-        except OSError as error:  # the disk filled or turned read-only during the run
-            status = f"not created: {error.strerror or error}"
-            note(f"baobab run: --baseline {path}: {status}")
-        else:
-            status = "created"
-            note(f"baseline created: {path}")
-        record.extra["baseline"] = {"file": str(path), "status": status}
-        return
-    record.extra["baseline"] = {
-        "file": str(path),
-        "status": "not created: the run did not turn out as intended",
-    }

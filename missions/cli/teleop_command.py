@@ -24,6 +24,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, TextIO
 
+from baobab.missions.run.exit_codes import EXIT_INVALID, EXIT_OK
 from baobab.robots.turtlebot3.teleop import LAYOUTS, layout_named
 from baobab.robots.turtlebot3.teleop_terminal import (
     DEFAULT_HOLD_TIME,
@@ -37,7 +38,6 @@ from baobab.sim.world import World, load_world
 if TYPE_CHECKING:
     from baobab.nav.server import NavigationServer
 
-EXIT_OK, EXIT_INVALID = 0, 2
 TICK = 0.05
 """Sim time (s) advanced per loop turn; also the resolution of key holds."""
 STATUS_PERIOD = 0.1

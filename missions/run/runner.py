@@ -25,6 +25,7 @@ import py_trees
 from baobab.missions.language.compiler import compile_mission
 from baobab.missions.language.loader import Mission
 from baobab.missions.run.events import TimedEvents
+from baobab.missions.run.exit_codes import EXIT_INTERRUPTED, EXIT_NOT_INTENDED, EXIT_OK
 from baobab.missions.run.expectations import (
     ExpectationResult,
     RunEnd,
@@ -42,12 +43,7 @@ from baobab.missions.run.tick_loop import LoopOutcome, MissionErrorCode, Progres
 from baobab.missions.run.trace import Trace, jsonable
 from baobab.sim.viewer import RealTimePacer
 
-EXIT_OK, EXIT_NOT_INTENDED, EXIT_INTERRUPTED = 0, 1, 130
-
 __all__ = [
-    "EXIT_INTERRUPTED",
-    "EXIT_NOT_INTENDED",
-    "EXIT_OK",
     "MissionErrorCode",
     "RecordingOptions",
     "RunRecord",
