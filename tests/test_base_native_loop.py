@@ -13,7 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from baobab.missions.run.metrics import ContactSampler, MobileProbe
+from baobab.missions.run.arm_probes import ContactSampler
+from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.robots.turtlebot3 import BURGER, TurtleBot3, build_turtlebot3_sim
 from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
 from baobab.sim.world import Box, Floor, Pose2D, World

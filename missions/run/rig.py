@@ -19,14 +19,10 @@ import numpy as np
 from baobab.behaviours.ports import NAVIGATION, Capabilities, NavigationPort
 from baobab.behaviours.poses import Pose
 from baobab.missions.language.loader import Mission
+from baobab.missions.run.arm_probes import ArmProbe, TrackingProbe
 from baobab.missions.run.event_targets import ObstacleSlots, TeleopChannel
-from baobab.missions.run.metrics import (
-    ArmProbe,
-    MetricRegistry,
-    MobileProbe,
-    TrackingProbe,
-    register_teleop_metrics,
-)
+from baobab.missions.run.metrics import MetricRegistry, register_teleop_metrics
+from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
 from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
 from baobab.robots.turtlebot3.robot import TurtleBot3
