@@ -12,7 +12,8 @@ to load), and the navigation stack (numba kernels) is imported only when the tre
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, Protocol, cast
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -28,7 +29,8 @@ from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
 from baobab.robots.turtlebot3.robot import TurtleBot3
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import Simulation
-from baobab.sim.world import World
+from baobab.sim.tasks import TaskHandle
+from baobab.sim.world import Pose2D, World
 
 if TYPE_CHECKING:
     from baobab.nav.server import NavigationServer
@@ -104,12 +106,12 @@ def build_navigation(
 
 
 class ClearCountingPort:
-    """The navigation server as the tree's port, counting the tree's costmap clearings.
+    """The navigation server as the tree's :class:`NavigationPort`, counting its clearings.
 
-    Every other attribute is the server's own; only ``clear_costmaps`` is counted on its way
-    through, so the ``costmap_clears`` metric tells how often the mission's ``clear_costmaps``
-    and ``clear_costmaps_when_stuck`` nodes cleared (Nav2's own recoveries count as
-    ``number_of_recoveries``).
+    ``clear_costmaps`` is counted on its way through, so the ``costmap_clears`` metric tells
+    how often the mission's ``clear_costmaps`` and ``clear_costmaps_when_stuck`` nodes cleared
+    (Nav2's own recoveries count as ``number_of_recoveries``); every other request goes to the
+    server as it is.
     """
 
     def __init__(self, server: NavigationServer) -> None:
@@ -121,8 +123,47 @@ class ClearCountingPort:
         self.clears += 1
         self.server.clear_costmaps(which)
 
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self.server, name)
+    def navigate_to_pose(self, goal: Pose2D) -> TaskHandle:
+        """The server's NavigateToPose."""
+        return self.server.navigate_to_pose(goal)
+
+    def navigate_through_poses(self, goals: Sequence[Pose2D]) -> TaskHandle:
+        """The server's NavigateThroughPoses."""
+        return self.server.navigate_through_poses(goals)
+
+    def follow_waypoints(
+        self, waypoints: Sequence[Pose2D], wait_at_waypoint: float, stop_on_failure: bool
+    ) -> TaskHandle:
+        """The server's FollowWaypoints."""
+        return self.server.follow_waypoints(waypoints, wait_at_waypoint, stop_on_failure)
+
+    def follow_path(self, path: Sequence[Pose2D]) -> TaskHandle:
+        """The server's FollowPath."""
+        return self.server.follow_path(path)
+
+    def spin(self, target_yaw: float, time_allowance: float) -> TaskHandle:
+        """The server's Spin."""
+        return self.server.spin(target_yaw, time_allowance)
+
+    def back_up(self, distance: float, speed: float, time_allowance: float) -> TaskHandle:
+        """The server's BackUp."""
+        return self.server.back_up(distance, speed, time_allowance)
+
+    def drive_on_heading(self, distance: float, speed: float, time_allowance: float) -> TaskHandle:
+        """The server's DriveOnHeading."""
+        return self.server.drive_on_heading(distance, speed, time_allowance)
+
+    def wait(self, duration: float) -> TaskHandle:
+        """The server's Wait."""
+        return self.server.wait(duration)
+
+    def assisted_teleop(self, time_allowance: float) -> TaskHandle:
+        """The server's AssistedTeleop."""
+        return self.server.assisted_teleop(time_allowance)
+
+    def robot_pose(self) -> Pose2D:
+        """The robot's map-frame pose."""
+        return self.server.robot_pose()
 
 
 class MobileRig:
@@ -150,7 +191,7 @@ class MobileRig:
         if uses_capability(mission, NAVIGATION):
             self.navigation = build_navigation(sim, self.robot, world, self.teleop)
             self.clear_counter = ClearCountingPort(self.navigation)
-            port = cast(NavigationPort, self.clear_counter)
+            port = self.clear_counter
             sim.every(PATH_SAMPLE_PERIOD, self._sample_path, name="plot paths")
         self.capabilities = Capabilities(
             clock=lambda: sim.time, navigation=port, base_controllers=self.controllers

@@ -38,7 +38,7 @@ from baobab.missions.run.faults import fault_injector
 from baobab.missions.run.metrics import MetricValue
 from baobab.missions.run.plot_data import PlotData
 from baobab.missions.run.recording_hook import RecordingHook, RecordingOptions
-from baobab.missions.run.rig import build_rig
+from baobab.missions.run.rig import Rig, build_rig
 from baobab.missions.run.tick_loop import LoopOutcome, MissionErrorCode, ProgressSink, RunLoop
 from baobab.missions.run.trace import Trace, jsonable
 from baobab.sim.viewer import RealTimePacer
@@ -169,16 +169,7 @@ def run_mission(
     rig = build_rig(mission, run_seed)
     check_metric_names(mission, rig.metrics.number_names(), rig.metrics.names())
     compiled = compile_mission(mission, rig.capabilities)
-    trace = Trace()
-    trace.add(
-        rig.sim.time,
-        "start",
-        mission=mission.name,
-        robot=mission.robot.name,
-        seed=run_seed,
-        params=mission.params,
-        timeout=mission.timeout,
-    )
+    trace = _started_trace(mission, rig, run_seed)
     events = TimedEvents(mission.events, rig.obstacles, rig.teleop, fault_injector(rig))
     options = recording or RecordingOptions()
     if viewer:
@@ -206,15 +197,37 @@ def run_mission(
         # py_trees' blackboard is process-global: nothing a run wrote reaches the next one.
         py_trees.blackboard.Blackboard.clear()
     wall_time = time.perf_counter() - started
-    metrics = rig.metrics.values()
-    end = RunEnd(outcome.result, outcome.error_code, outcome.error_name, outcome.sim_time)
-    expectations = evaluate(mission.expect, end, metrics, mission)
-    plot = rig.plot_data(_title(mission, run_seed, outcome))
-    record = RunRecord(mission, run_seed, outcome, metrics, expectations, trace, plot, wall_time)
+    record = _judged(mission, run_seed, rig, outcome, trace, wall_time)
     outputs = {} if hook is None else hook.outputs()
     if outputs:
         record.extra["recording"] = outputs
     return record
+
+
+def _started_trace(mission: Mission, rig: Rig, seed: int) -> Trace:
+    """A trace that begins with the run's ``start`` record."""
+    trace = Trace()
+    trace.add(
+        rig.sim.time,
+        "start",
+        mission=mission.name,
+        robot=mission.robot.name,
+        seed=seed,
+        params=mission.params,
+        timeout=mission.timeout,
+    )
+    return trace
+
+
+def _judged(
+    mission: Mission, seed: int, rig: Rig, outcome: LoopOutcome, trace: Trace, wall_time: float
+) -> RunRecord:
+    """The record of a finished run: its metrics read, its ``expect:`` block evaluated."""
+    metrics = rig.metrics.values()
+    end = RunEnd(outcome.result, outcome.error_code, outcome.error_name, outcome.sim_time)
+    expectations = evaluate(mission.expect, end, metrics, mission)
+    plot = rig.plot_data(_title(mission, seed, outcome))
+    return RunRecord(mission, seed, outcome, metrics, expectations, trace, plot, wall_time)
 
 
 def _drop(_message: str) -> None:
