@@ -1,4 +1,4 @@
-"""The forward-progress rule of seed 000 as a decorator around navigation nodes.
+"""The forward-progress rule as a decorator around navigation nodes: ``clear_costmaps_when_stuck``.
 
 ::
 
@@ -8,7 +8,7 @@
 
 clears all costmaps every 0.5 s while the robot does not move forward and the navigation
 runs (see :mod:`baobab.behaviours.progress`). ``clear_costmaps_when_stuck: {navigate_to_pose:
-table_3}`` is the short form with the seed's defaults.
+table_3}`` is the short form with the rule's defaults (0.5 s, all costmaps).
 """
 
 from __future__ import annotations

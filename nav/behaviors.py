@@ -55,7 +55,8 @@ class BehaviorParams:
     teleop_footprint_padding: float = 0.05
     """Margin (m) assisted teleop keeps between the footprint and lethal cells."""
     teleop_costmap_clear_frequency: float = 2.0
-    """How often (Hz) assisted teleop clears all costmaps while it runs (seed 000); 0: never."""
+    """How often (Hz) assisted teleop clears all costmaps while it runs, as the Nav2 Simple
+Commander tutorial's assisted teleop node does; 0: never."""
 
 
 @dataclass

@@ -1,10 +1,10 @@
 """The ``baobab`` command line: the parser, its subcommands, and how a command's errors end it.
 
-Each subcommand is one module here (``<name>_command.py``) with a ``configure_<name>`` that
-declares its arguments and a handler that runs it; :data:`SUBCOMMANDS` lists them. Exit codes
-(DESIGN §2, :mod:`baobab.missions.run.exit_codes`): 0 as intended, 1 ran but not as intended,
-2 invalid input (located messages on stderr, never a traceback), 3 ran but could not be saved
-(``run``), 128 + signal when SIGINT (130), SIGTERM (143) or SIGHUP (129) ended it
+Each subcommand is one module here (``<name>_command.py``) with a ``configure_<name>`` that declares
+its arguments and a handler that runs it; :data:`SUBCOMMANDS` lists them. Exit codes
+(:mod:`baobab.missions.run.exit_codes`): 0 as intended, 1 ran but not as intended, 2 invalid input
+(located messages on stderr, never a traceback), 3 ran but could not be saved (``run``), 128 +
+signal when SIGINT (130), SIGTERM (143) or SIGHUP (129) ended it
 (:mod:`baobab.missions.cli.interrupts`).
 
 Start-up time is a product figure (``baobab validate`` of every bundled mission in well under

@@ -1,8 +1,8 @@
 """Start-up of the ``baobab`` process: what it arranges before its modules load.
 
-``baobab validate`` of every bundled mission must finish well within half a second (issue 11,
-figure 4); importing pydantic and building the mission models is most of that. Two costs of
-that start-up are not work the command needs:
+``baobab validate`` of every bundled mission must finish well within half a second (the
+start-up figure of ``bench/run.py``); importing pydantic and building the mission models is
+most of that. Two costs of that start-up are not work the command needs:
 
 - The command disables pydantic's plugins (``PYDANTIC_DISABLE_PLUGINS=__all__``, see
   :mod:`.cli`), yet pydantic's plugin loader still imports :mod:`importlib.metadata` (email,

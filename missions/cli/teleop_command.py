@@ -1,11 +1,11 @@
 """``baobab teleop --world NAME``: drive the TurtleBot3 with the keyboard, assisted teleop on.
 
-The robot starts at the world's spawn with its navigation server running one assisted teleop
-session without a time limit, so the collision projection slows it down near obstacles and
-stops it before them (:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the seed's
-mapping (WASD or ZQSD, 0.25 m/s and 1.2 rad/s) with the terminal rules of
-:mod:`baobab.robots.turtlebot3.teleop_terminal` (a press holds for 0.4 s, space stops, ``q``
-quits). The simulation is paced to the wall clock, the one place where that is right, and a
+The robot starts at the world's spawn with its navigation server running one assisted teleop session
+without a time limit, so the collision projection slows it down near obstacles and stops it before
+them (:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the keyboard teleop's mapping
+(:mod:`baobab.robots.turtlebot3.teleop`: WASD or ZQSD, 0.25 m/s and 1.2 rad/s) with the terminal
+rules of :mod:`baobab.robots.turtlebot3.teleop_terminal` (a press holds for 0.4 s, space stops,
+``q`` quits). The simulation is paced to the wall clock, the one place where that is right, and a
 status line shows the pose, the nearest obstacle and the scaling assisted teleop applies.
 
 :class:`TeleopSession` is the terminal-free part (keys in, sim advanced, status out);

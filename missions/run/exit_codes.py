@@ -1,4 +1,4 @@
-"""How a ``baobab`` command ends (DESIGN §2): its exit codes, by name.
+"""How a ``baobab`` command ends: its exit codes, by name.
 
 A signal that ends a command gives ``128 + signal`` (:mod:`baobab.missions.cli.interrupts`):
 130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP.

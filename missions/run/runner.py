@@ -1,4 +1,4 @@
-"""Run a mission: build its robot, compile its tree, loop, measure, judge (DESIGN §2).
+"""Run a mission: build its robot, compile its tree, loop, measure, judge.
 
 :func:`run_mission` is the one entry point the CLI, pytest scenario tests and campaigns share::
 

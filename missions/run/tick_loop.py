@@ -1,4 +1,4 @@
-"""The run loop (DESIGN §2.5): tick the tree, advance the sim, apply timed events, record.
+"""The run loop: tick the tree, advance the sim, apply timed events, record.
 
 Every tick period (0.1 s of sim time, 10 Hz) the loop records the robot's state, ticks the
 tree once, records the nodes whose status changed and the tasks that ended, then advances the
