@@ -13,10 +13,11 @@ from __future__ import annotations
 import ctypes.util
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, cast
+from typing import Any, NamedTuple, cast
 
 import llvmlite.binding
 import mujoco
+import numpy as np
 from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
@@ -99,3 +100,51 @@ pointer = cast(Callable[[Any], Any], _pointer_intrinsic)
 def address(struct: Any) -> int:
     """The C address of an ``MjModel`` or ``MjData``."""
     return int(struct._address)
+
+
+class GeomArrays(NamedTuple):
+    """MuJoCo's arrays the compiled geometry kernels read, by their MuJoCo names.
+
+    Views into the model and data (:func:`geom_arrays`): they follow the state as it changes.
+    """
+
+    geom_xpos: np.ndarray
+    """``data.geom_xpos`` (ngeom, 3): geom centres, world frame (m)."""
+    geom_xmat: np.ndarray
+    """``data.geom_xmat`` (ngeom, 9): geom orientations, row-major."""
+    geom_size: np.ndarray
+    """``model.geom_size`` (ngeom, 3) (m)."""
+    geom_rbound: np.ndarray
+    """``model.geom_rbound`` (ngeom,): bounding sphere radius (m)."""
+    geom_type: np.ndarray
+    """``model.geom_type`` (ngeom,): ``mjtGeom``."""
+    geom_group: np.ndarray
+    """``model.geom_group`` (ngeom,)."""
+    geom_matid: np.ndarray
+    """``model.geom_matid`` (ngeom,): material, -1 for none."""
+    geom_rgba: np.ndarray
+    """``model.geom_rgba`` (ngeom, 4)."""
+    mat_rgba: np.ndarray
+    """``model.mat_rgba`` (nmat, 4)."""
+    geom_aabb: np.ndarray
+    """``model.geom_aabb`` (ngeom, 6): bounding box, geom frame: centre, half sizes (m)."""
+    geom_bodyid: np.ndarray
+    """``model.geom_bodyid`` (ngeom,)."""
+    body_bvhadr: np.ndarray
+    """``model.body_bvhadr`` (nbody,): the body's bounding-volume root, -1 for none."""
+    bvh_aabb: np.ndarray
+    """``model.bvh_aabb`` (nbvh, 6): bounding boxes, body inertial frame (m)."""
+    xipos: np.ndarray
+    """``data.xipos`` (nbody, 3): body inertial frames' origins, world frame (m)."""
+
+
+def geom_arrays(model: mujoco.MjModel, data: mujoco.MjData) -> GeomArrays:
+    """The :class:`GeomArrays` of ``model`` and ``data``, views made once (reading a MuJoCo
+    array attribute builds a new view each time)."""
+    return GeomArrays(
+        **{name: getattr(data if name in _DATA else model, name) for name in GeomArrays._fields}
+    )
+
+
+_DATA = {"geom_xpos", "geom_xmat", "xipos"}
+"""The :class:`GeomArrays` fields that live in MjData."""
