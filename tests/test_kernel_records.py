@@ -1,4 +1,4 @@
-"""Compiled kernels take a few named records, built by ``pack()`` beside the dataclass they mirror."""
+"""Compiled kernels take a few named records, each built by a ``pack()`` beside its dataclass."""
 
 from __future__ import annotations
 
