@@ -70,6 +70,8 @@ class Costmap2D:
         self.default_value = int(default_value)
         self.inscribed_radius = float(inscribed_radius)
         self.data = np.full((size_y, size_x), default_value, dtype=np.uint8)
+        self._packed_key: tuple[float, float, float, float] | None = None
+        self._packed = np.empty(0, dtype=GRID)
 
     @property
     def size_x(self) -> int:
@@ -150,8 +152,14 @@ class Costmap2D:
         return result
 
     def pack(self) -> np.ndarray:
-        """The geometry as a :data:`GRID` record (:mod:`baobab.sim.records`)."""
-        return record(GRID, self)
+        """The geometry as a :data:`GRID` record (:mod:`baobab.sim.records`); read only.
+
+        Built again only when the geometry changed (a rolling window moves its origin).
+        """
+        key = (self.origin_x, self.origin_y, self.resolution, self.inscribed_radius)
+        if key != self._packed_key:
+            self._packed, self._packed_key = record(GRID, self), key
+        return self._packed
 
     def copy(self) -> Costmap2D:
         """An independent copy (geometry, metadata and cells)."""

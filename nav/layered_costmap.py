@@ -107,6 +107,9 @@ class LayeredCostmap:
         )
         self._no_static_costs = np.zeros((1, 1), dtype=np.uint8)
         self._static_inflation: np.ndarray | None = None
+        self._window_record = np.empty(0, dtype=WINDOW)
+        self._window_key: tuple[int, int] | None = None
+        self._layers: Layers | None = None
 
     @classmethod
     def global_costmap(
@@ -183,17 +186,21 @@ class LayeredCostmap:
             self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
 
     def _window(self) -> np.ndarray:
-        """The window's placement and layers as the kernels' :data:`WINDOW` record."""
-        params, resolution = self.params, self.resolution
-        return record(
-            WINDOW,
-            raster_x0=self._ix0,
-            raster_y0=self._iy0,
-            use_static=params.use_static_layer,
-            use_obstacle=params.use_obstacle_layer,
-            margin=self.inflation_layer.margin_cells(resolution),
-            reach=self.inflation_layer.cost_table(resolution)[1],
-        )
+        """The window's placement and layers as the kernels' :data:`WINDOW` record (built
+        again when the window moved; read only)."""
+        if self._window_key != (self._ix0, self._iy0):
+            params, resolution = self.params, self.resolution
+            self._window_key = (self._ix0, self._iy0)
+            self._window_record = record(
+                WINDOW,
+                raster_x0=self._ix0,
+                raster_y0=self._iy0,
+                use_static=params.use_static_layer,
+                use_obstacle=params.use_obstacle_layer,
+                margin=self.inflation_layer.margin_cells(resolution),
+                reach=self.inflation_layer.cost_table(resolution)[1],
+            )
+        return self._window_record
 
     def update(self, robot_pose: Pose2D | None = None, scans: Iterable[LaserScan] = ()) -> None:
         """One update cycle: follow the robot (rolling window), then take in the scans."""
@@ -266,12 +273,14 @@ class LayeredCostmap:
             if rect[0] < rect[2] and rect[1] < rect[3]:
                 rects = _merge_rect(rects, rect, margin)
         static_costs = self._static_costs(table, reach)
-        layers = Layers(
-            master=self._master.data,
-            raster=self.static_layer.raster,
-            obstacle=self.obstacle_layer.grid.data,
-            table=table,
-        )
+        if self._layers is None or self._layers.table is not table:
+            self._layers = Layers(
+                master=self._master.data,
+                raster=self.static_layer.raster,
+                obstacle=self.obstacle_layer.grid.data,
+                table=table,
+            )
+        layers = self._layers
         window = self._window()
         for rect in rects:
             if static_costs is not None and refresh_window_static(

@@ -91,7 +91,6 @@ class RegulatedPurePursuit:
     def __init__(self, params: RegulatedPurePursuitParams | None = None) -> None:
         self.params = params or RegulatedPurePursuitParams()
         self._settings = self.params.pack()
-        self._cycle = np.zeros(1, dtype=kernel.CYCLE)
         self._path: Path | None = None
         self._along = np.zeros(1)
         self.closest_index = 0
@@ -129,22 +128,25 @@ class RegulatedPurePursuit:
             self.closest_index = 0
             self._along = path.cumulative_lengths
         x, y = pose.x, pose.y
-        cycle = self._cycle[0]
-        cycle["begin"] = self.closest_index
-        cycle["x"], cycle["y"], cycle["yaw"] = x, y, pose.yaw
-        cycle["linear_speed"], cycle["angular_speed"] = velocity
-        status = kernel.rpp_step(
-            path.poses, self._along, costmap.data, costmap.pack(), self._settings, self._cycle
+        step = kernel.rpp_step(
+            path.poses,
+            self._along,
+            self.closest_index,
+            (x, y, pose.yaw),
+            velocity,
+            costmap.data,
+            costmap.pack(),
+            self._settings,
         )
-        self.closest_index = int(cycle["closest"])
-        if status == kernel.NO_POSE_NEAR:
+        self.closest_index = step.closest
+        if step.status == kernel.NO_POSE_NEAR:
             raise NavigationError(
                 FollowPathError.INVALID_PATH,
-                f"no path pose within {cycle['extent']:.2f} m of ({x:.2f}, {y:.2f})",
+                f"no path pose within {step.extent:.2f} m of ({x:.2f}, {y:.2f})",
             )
-        self.last_carrot = (float(cycle["carrot_x"]), float(cycle["carrot_y"]))
-        linear, angular = float(cycle["linear"]), float(cycle["angular"])
-        if status == kernel.COLLISION_AHEAD:
+        self.last_carrot = (step.carrot_x, step.carrot_y)
+        linear, angular = step.linear, step.angular
+        if step.status == kernel.COLLISION_AHEAD:
             raise CollisionAheadError(
                 f"projected motion ({linear:.2f} m/s, {angular:.2f} rad/s) from "
                 f"({x:.2f}, {y:.2f}) collides before the carrot"

@@ -8,15 +8,15 @@ motion cell by cell: in Python that was hundreds of small float operations, the 
 largest cost per cycle. The tests compare it with a plain Python controller
 (``tests/test_rpp_kernel.py``), which does the same float operations and so gives the same bits.
 
-The kernel reads three records (:mod:`baobab.sim.records`): the settings
-(:data:`RPP_SETTINGS`, from :meth:`~baobab.nav.pure_pursuit.RegulatedPurePursuitParams.pack`),
-the local costmap's geometry (:data:`~baobab.nav.costmap.GRID`) and the cycle's robot state
-and results (:data:`CYCLE`).
+The kernel reads two records (:mod:`baobab.sim.records`): the settings (:data:`RPP_SETTINGS`,
+from :meth:`~baobab.nav.pure_pursuit.RegulatedPurePursuitParams.pack`) and the local costmap's
+geometry (:data:`~baobab.nav.costmap.GRID`); it returns a :class:`PursuitStep`.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -35,6 +35,9 @@ NO_POSE_NEAR = 1
 """No path pose lies within the costmap's half extent of the robot."""
 COLLISION_AHEAD = 2
 """The projected motion up to the carrot collides."""
+
+Pose = tuple[float, float, float]
+"""A map-frame pose ``(x, y, yaw)`` (m, m, rad)."""
 
 RPP_SETTINGS = np.dtype(
     [
@@ -70,27 +73,24 @@ RPP_SETTINGS = np.dtype(
 """The controller's settings, one field per
 :class:`~baobab.nav.pure_pursuit.RegulatedPurePursuitParams` field of the same name."""
 
-CYCLE = np.dtype(
-    [
-        # In: where the search for the closest pose starts, and the robot's state.
-        ("begin", np.int64),  # index of the pose found closest last cycle
-        ("x", np.float64),  # map frame (m)
-        ("y", np.float64),  # m
-        ("yaw", np.float64),  # rad
-        ("linear_speed", np.float64),  # m/s
-        ("angular_speed", np.float64),  # rad/s
-        # Out.
-        ("closest", np.int64),  # index of the pose closest to the robot
-        ("linear", np.float64),  # the command (m/s)
-        ("angular", np.float64),  # rad/s
-        ("carrot_x", np.float64),  # the carrot, map frame (m)
-        ("carrot_y", np.float64),  # m
-        ("extent", np.float64),  # the costmap's half extent (m)
-    ],
-    align=True,
-)
-"""One control cycle's robot state (written by the caller) and results (written by
-:func:`rpp_step`)."""
+
+class PursuitStep(NamedTuple):
+    """What one :func:`rpp_step` found."""
+
+    status: int
+    """:data:`OK`, :data:`NO_POSE_NEAR` or :data:`COLLISION_AHEAD`."""
+    closest: int
+    """Index of the path pose closest to the robot."""
+    linear: float
+    """The command (m/s); 0 unless ``status`` is :data:`OK` or :data:`COLLISION_AHEAD`."""
+    angular: float
+    """rad/s."""
+    carrot_x: float
+    """The carrot, map frame (m)."""
+    carrot_y: float
+    """m."""
+    extent: float
+    """The costmap's half extent (m)."""
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -126,13 +126,12 @@ def _rotate_to(angle: float, angular_speed: float, s: Record) -> float:  # pragm
 
 @numba.njit(cache=True, nogil=True)
 def _local_plan(
-    poses: np.ndarray, along: np.ndarray, search_dist: float, c: Record
-) -> np.ndarray:  # pragma: no cover - compiled
-    """The closest pose (searched over ``search_dist`` m of path from ``c.begin``, written to
-    ``c.closest``) and the poses after it within ``c.extent``, in the robot frame (N, 3)."""
-    x, y, yaw = c.x, c.y, c.yaw
+    poses: np.ndarray, along: np.ndarray, begin: int, pose: Pose, search_dist: float, extent: float
+) -> tuple[int, np.ndarray]:  # pragma: no cover - compiled
+    """The pose closest to ``pose`` (searched over ``search_dist`` m of path from ``begin``) and
+    the poses after it within ``extent`` (m), in the robot frame (N, 3)."""
+    x, y, yaw = pose
     n = poses.shape[0]
-    begin = c.begin
     limit = along[begin] + search_dist
     closest, best = begin, math.inf
     k = begin
@@ -141,9 +140,8 @@ def _local_plan(
         if distance < best:
             closest, best = k, distance
         k += 1
-    c.closest = closest
     end = closest
-    while end < n and math.hypot(poses[end, 0] - x, poses[end, 1] - y) <= c.extent:
+    while end < n and math.hypot(poses[end, 0] - x, poses[end, 1] - y) <= extent:
         end += 1
     cos_yaw, sin_yaw = math.cos(yaw), math.sin(yaw)
     local = np.empty((end - closest, 3))
@@ -152,7 +150,7 @@ def _local_plan(
         local[i, 0] = cos_yaw * dx + sin_yaw * dy
         local[i, 1] = -sin_yaw * dx + cos_yaw * dy
         local[i, 2] = (poses[closest + i, 2] - yaw + math.pi) % (2 * math.pi) - math.pi
-    return local
+    return closest, local
 
 
 @numba.njit(cache=True, nogil=True)
@@ -216,25 +214,32 @@ def _regulated_speed(
 
 @numba.njit(cache=True, nogil=True)
 def _collision_ahead(
-    cells: np.ndarray, grid: Record, carrot_dist: float, s: Record, c: Record
+    cells: np.ndarray,
+    grid: Record,
+    pose: Pose,
+    command: tuple[float, float],
+    reach: float,
+    s: Record,
 ) -> bool:  # pragma: no cover - compiled
-    """Nav2's projection: step the command ahead until the carrot or the time limit."""
-    cost = _cost(cells, grid, c.x, c.y)
+    """Nav2's projection: step ``command`` (m/s, rad/s) ahead from ``pose`` until it is
+    ``reach`` (m, the carrot's distance) away or the time limit passes."""
+    x, y, yaw = pose
+    cost = _cost(cells, grid, x, y)
     if cost != NO_INFORMATION and cost >= INSCRIBED_INFLATED_OBSTACLE:
         return True
-    linear, angular = c.linear, c.angular
+    linear, angular = command
     if abs(linear) < 0.01:
         # A circular robot turning in place sweeps no new cells.
         return False
     dt = grid.resolution / abs(linear)
-    px, py, pyaw = c.x, c.y, c.yaw
+    px, py, pyaw = x, y, yaw
     i = 1
     while i * dt < s.max_allowed_time_to_collision_up_to_carrot:
         i += 1
         px += dt * linear * math.cos(pyaw)
         py += dt * linear * math.sin(pyaw)
         pyaw += dt * angular
-        if math.hypot(px - c.x, py - c.y) > carrot_dist:
+        if math.hypot(px - x, py - y) > reach:
             break
         cost = _cost(cells, grid, px, py)
         if cost != NO_INFORMATION and cost >= INSCRIBED_INFLATED_OBSTACLE:
@@ -246,59 +251,63 @@ def _collision_ahead(
 def rpp_step(
     poses: np.ndarray,
     along: np.ndarray,
+    begin: int,
+    pose: Pose,
+    velocity: tuple[float, float],
     cells: np.ndarray,
     grid: np.ndarray,
     settings: np.ndarray,
-    cycle: np.ndarray,
-) -> int:  # pragma: no cover - compiled
+) -> PursuitStep:  # pragma: no cover - compiled
     """One Regulated Pure Pursuit cycle.
 
     Args:
         poses: ``(N, 3)`` map-frame path poses (m, m, rad), N >= 1.
         along: ``(N,)`` cumulative path length (m) at each pose.
+        begin: index of the pose found closest last cycle (the search starts there).
+        pose: the robot's map-frame pose ``(x, y, yaw)`` (m, m, rad).
+        velocity: the robot's ``(linear, angular)`` speed (m/s, rad/s).
         cells: the local costmap's ``uint8`` cells, ``[row, col]``.
         grid: the local costmap's :data:`~baobab.nav.costmap.GRID` record.
         settings: an :data:`RPP_SETTINGS` record.
-        cycle: a :data:`CYCLE` record: reads the robot state, writes the results.
-
-    Returns:
-        :data:`OK`, :data:`NO_POSE_NEAR` or :data:`COLLISION_AHEAD`.
     """
-    g, s, c = grid[0], settings[0], cycle[0]
-    c.extent = max(cells.shape[0], cells.shape[1]) * g.resolution / 2
+    g, s = grid[0], settings[0]
+    x, y, yaw = pose
+    extent = max(cells.shape[0], cells.shape[1]) * g.resolution / 2
     search_dist = s.max_robot_pose_search_dist
     if math.isnan(search_dist):
-        search_dist = c.extent
-    local = _local_plan(poses, along, search_dist, c)
+        search_dist = extent
+    closest, local = _local_plan(poses, along, begin, pose, search_dist, extent)
     if local.shape[0] == 0:
-        return NO_POSE_NEAR
+        return PursuitStep(NO_POSE_NEAR, closest, 0.0, 0.0, math.nan, math.nan, extent)
     last = local.shape[0] - 1
 
     if s.use_velocity_scaled_lookahead_dist:
         lookahead = _clamp(
-            abs(c.linear_speed) * s.lookahead_time, s.min_lookahead_dist, s.max_lookahead_dist
+            abs(velocity[0]) * s.lookahead_time, s.min_lookahead_dist, s.max_lookahead_dist
         )
     else:
         lookahead = s.lookahead_dist
     carrot_x, carrot_y = _carrot(local, lookahead, s)
-    cos_yaw, sin_yaw = math.cos(c.yaw), math.sin(c.yaw)
-    c.carrot_x = c.x + cos_yaw * carrot_x - sin_yaw * carrot_y
-    c.carrot_y = c.y + sin_yaw * carrot_x + cos_yaw * carrot_y
+    cos_yaw, sin_yaw = math.cos(yaw), math.sin(yaw)
+    map_x = x + cos_yaw * carrot_x - sin_yaw * carrot_y
+    map_y = y + sin_yaw * carrot_x + cos_yaw * carrot_y
     carrot_dist = math.hypot(carrot_x, carrot_y)
     angle_to_path = math.atan2(carrot_y, carrot_x)
 
     # Rotate in place or drive at the regulated speed.
     if s.use_rotate_to_heading and carrot_dist < s.goal_dist_tol:
-        linear, angular = 0.0, _rotate_to(local[last, 2], c.angular_speed, s)
+        linear, angular = 0.0, _rotate_to(local[last, 2], velocity[1], s)
     elif s.use_rotate_to_heading and abs(angle_to_path) > s.rotate_to_heading_min_angle:
-        linear, angular = 0.0, _rotate_to(angle_to_path, c.angular_speed, s)
+        linear, angular = 0.0, _rotate_to(angle_to_path, velocity[1], s)
     else:
         square = carrot_dist * carrot_dist
         curvature = 2.0 * carrot_y / square if square > 0.001 else 0.0
-        linear = _regulated_speed(curvature, _cost(cells, g, c.x, c.y), local, g, s)
+        linear = _regulated_speed(curvature, _cost(cells, g, x, y), local, g, s)
         angular = linear * curvature
-    c.linear = linear
-    c.angular = _clamp(angular, -s.max_angular_vel, s.max_angular_vel)
-    if s.use_collision_detection and _collision_ahead(cells, g, carrot_dist, s, c):
-        return COLLISION_AHEAD
-    return OK
+    angular = _clamp(angular, -s.max_angular_vel, s.max_angular_vel)
+    status = OK
+    if s.use_collision_detection and _collision_ahead(
+        cells, g, pose, (linear, angular), carrot_dist, s
+    ):
+        status = COLLISION_AHEAD
+    return PursuitStep(status, closest, linear, angular, map_x, map_y, extent)
