@@ -76,7 +76,7 @@ class SearchSpace(NamedTuple):
     """The open list."""
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
 def _sift_up(heap: Heap, i: int) -> None:  # pragma: no cover - compiled
     f, h, v = heap.f[i], heap.h[i], heap.cell[i]
     while i > 0:
@@ -90,7 +90,7 @@ def _sift_up(heap: Heap, i: int) -> None:  # pragma: no cover - compiled
     heap.where[v] = i
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
 def _sift_down(heap: Heap, i: int, size: int) -> None:  # pragma: no cover - compiled
     f, h, v = heap.f[i], heap.h[i], heap.cell[i]
     while True:
