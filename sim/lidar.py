@@ -127,7 +127,7 @@ class Lidar:
         self._site = sim.data.site(site)
         # Views made once: reading a MuJoCo array attribute builds a new view each time.
         self._site_xpos, self._site_xmat = self._site.xpos, self._site.xmat
-        self._geometry = geom_arrays(sim.model, sim.data)
+        self._geom = geom_arrays(sim.model, sim.data)  # valid while sim lives
         self.site_name = site
         self.frame_id = frame_id
         self.beams = beams
@@ -176,7 +176,7 @@ class Lidar:
         """Cast the beams from the site's current pose and return the scan (no callbacks)."""
         ranges, fan = self._no_ranges, self._fan
         if self.noise_std == 0:
-            ranges = scan_fan(self._site_xpos, self._site_xmat, fan, self._settings, self._geometry)
+            ranges = scan_fan(self._site_xpos, self._site_xmat, fan, self._settings, self._geom)
         if ranges.shape[0] == 0:  # noisy, or a geom type the compiled caster does not take
             np.copyto(fan.origin, self._site_xpos)
             fan_directions(self._site_xmat, fan.local, fan.directions)

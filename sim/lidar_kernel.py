@@ -18,8 +18,9 @@ no skip can change a reported range:
   back in range. A noisy scanner therefore uses ``mj_multiRay`` itself.)
 
 The kernels read named records (:mod:`baobab.sim.records`): the scanner's figures
-(:data:`FAN`), its beams and results (:class:`Fan`) and MuJoCo's arrays
-(:class:`~baobab.sim.mujoco_native.GeomArrays`).
+(:data:`FAN`), its beams and results (:class:`Fan`) and where MuJoCo's arrays live
+(:data:`~baobab.sim.mujoco_native.GEOM_ARRAYS`, read as
+:class:`~baobab.sim.mujoco_native.GeomArrays`).
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ import mujoco
 import numba
 import numpy as np
 
-from baobab.sim.mujoco_native import GeomArrays, ray_geom
+from baobab.sim.mujoco_native import GeomArrays, geom_views, ray_geom
 from baobab.sim.records import Record
 
 _PLANE = int(mujoco.mjtGeom.mjGEOM_PLANE)
@@ -400,16 +401,19 @@ def scan_fan(
     site_xmat: np.ndarray,
     fan: Fan,
     settings: np.ndarray,
-    geometry: GeomArrays,
+    geom: np.ndarray,
 ) -> np.ndarray:  # pragma: no cover - compiled
     """A whole noiseless scan from the site's pose: LaserScan ranges (m), new array.
 
     Fills ``fan.origin`` and ``fan.directions`` from the site (see :func:`fan_directions`)
     and ``fan.best`` with the hit distances (see :func:`cast_fan`). ``settings`` is the
-    scanner's :data:`FAN` record. Returns an empty array when :func:`cast_fan` cannot handle
-    the view (``fan.origin`` and ``fan.directions`` are filled anyway).
+    scanner's :data:`FAN` record, ``geom`` the model's
+    :data:`~baobab.sim.mujoco_native.GEOM_ARRAYS` record. Returns an empty array when
+    :func:`cast_fan` cannot handle the view (``fan.origin`` and ``fan.directions`` are filled
+    anyway).
     """
     f = settings[0]
+    geometry = geom_views(geom)
     fan.origin[:] = site_xpos
     fan_directions(site_xmat, fan.local, fan.directions)
     if not cast_fan(fan, site_xmat, f, geometry, f.range_max + _SLACK):
