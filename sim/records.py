@@ -8,6 +8,10 @@ A kernel takes a few named records, never a long positional list:
   an array index. A record is built by one ``pack()`` beside the Python dataclass it mirrors,
   with :func:`record`, which takes every field by name;
 - arrays of run-time size travel in a :class:`typing.NamedTuple` of arrays, read by name too.
+  numba types such an argument element by element, about 1 us plus 0.2 us per array a call:
+  where a kernel is called often with many arrays that live in MuJoCo (as long as their
+  MjModel or MjData), a record of their addresses travels instead and the kernel views them
+  by name (:data:`~baobab.sim.mujoco_native.GEOM_ARRAYS`).
 
 Not jitclasses: numba cannot cache code that takes one, so every process would compile those
 kernels anew (seconds of start-up).
