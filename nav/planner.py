@@ -184,10 +184,11 @@ def _goal_candidates(
     ``grid`` is the costmap's :data:`~baobab.nav.costmap.GRID` record; the goal lies on it.
     """
     g = grid[0]
+    origin_x, origin_y, resolution = g.origin_x, g.origin_y, g.resolution
     size_y, size_x = cells.shape
-    gx = math.floor((goal_x - g.origin_x) / g.resolution)
-    gy = math.floor((goal_y - g.origin_y) / g.resolution)
-    reach = math.ceil(tolerance / g.resolution) + 1
+    gx = math.floor((goal_x - origin_x) / resolution)
+    gy = math.floor((goal_y - origin_y) / resolution)
+    reach = math.ceil(tolerance / resolution) + 1
     x0, x1 = max(gx - reach, 0), min(gx + reach + 1, size_x)
     y0, y1 = max(gy - reach, 0), min(gy + reach + 1, size_y)
     count = max(x1 - x0, 0) * max(y1 - y0, 0)
@@ -200,8 +201,8 @@ def _goal_candidates(
             if ix == gx and iy == gy:
                 distance = -1.0
             else:
-                cx = g.origin_x + (ix + 0.5) * g.resolution
-                cy = g.origin_y + (iy + 0.5) * g.resolution
+                cx = origin_x + (ix + 0.5) * resolution
+                cy = origin_y + (iy + 0.5) * resolution
                 distance = math.hypot(cx - goal_x, cy - goal_y)
             if distance <= tolerance and weights[cells[iy, ix]] > 0:
                 found_cells[found, 0], found_cells[found, 1] = ix, iy

@@ -48,7 +48,8 @@ def _smooth_round(
     on no memory round trip; the sweep's old values are kept for the undo.
     """
     g, s = grid[0], settings[0]
-    w_data, w_smooth, tolerance = s.w_data, s.w_smooth, s.tolerance
+    w_data, w_smooth, tolerance, max_its = s.w_data, s.w_smooth, s.tolerance, s.max_its
+    origin_x, origin_y, resolution = g.origin_x, g.origin_y, g.resolution
     new = data.copy()
     n = data.shape[0]
     if n < 3:
@@ -60,7 +61,7 @@ def _smooth_round(
     while change >= tolerance:
         its += 1
         change = 0.0
-        if its >= s.max_its:
+        if its >= max_its:
             return MAX_ITERATIONS, new
         prev_x, prev_y = new[0, 0], new[0, 1]
         cur_x, cur_y = new[1, 0], new[1, 1]
@@ -74,8 +75,8 @@ def _smooth_round(
             change += abs(moved_y - cur_y)
             new[i, 0], new[i, 1] = moved_x, moved_y
             replaced[i, 0], replaced[i, 1] = cur_x, cur_y
-            col = int(np.floor((moved_x - g.origin_x) / g.resolution))
-            row = int(np.floor((moved_y - g.origin_y) / g.resolution))
+            col = int(np.floor((moved_x - origin_x) / resolution))
+            row = int(np.floor((moved_y - origin_y) / resolution))
             if 0 <= row < height and 0 <= col < width:
                 cost = cells[row, col]
                 if cost > MAX_NON_OBSTACLE and cost != NO_INFORMATION:
