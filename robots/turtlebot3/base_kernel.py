@@ -24,7 +24,7 @@ from __future__ import annotations
 import functools
 import math
 import weakref
-from typing import Any, TypeAlias
+from typing import TypeAlias
 
 import numba
 import numpy as np
@@ -33,6 +33,7 @@ from baobab.sim import native_control
 from baobab.sim.errors import SimulationError
 from baobab.sim.mujoco_native import mj_get_state, pointer, remainder
 from baobab.sim.native_control import STATE_TIME
+from baobab.sim.records import Record
 from baobab.sim.simulation import Simulation
 
 BASE_LOOP = np.dtype(
@@ -97,7 +98,7 @@ LOOP_WORDS = BASE_LOOP.itemsize // 8
 WORD = {name: field[1] // 8 for name, field in (BASE_LOOP.fields or {}).items()}
 """Each field's index in a record viewed as 8-byte words (Python reads and writes them so)."""
 
-Loop: TypeAlias = Any
+Loop: TypeAlias = Record
 """One :data:`BASE_LOOP` record in compiled code (numba's record type; fields by name)."""
 
 
