@@ -2,6 +2,10 @@
 
 What is checked, and how it is kept affordable:
 
+- every bundled mission, run whole with its defaults and seed, gives the digest pinned in
+  ``tests/golden_digests.json``: the same bits on every machine and after every change that
+  is not meant to change a run. A change that moves a digest on purpose updates the file with
+  ``python -m tests.update_golden`` and says why in its commit;
 - every bundled mission runs twice in this process with the same seed and the same digest.
   The long missions take minutes of sim time (farm_rows about 490 s, waypoint_patrol about
   340 s), so every mission's ``timeout`` is cut to :data:`PREFIX_TIME` s of sim time for both
@@ -35,6 +39,8 @@ from baobab.missions.run.rig import MobileRig
 from baobab.missions.run.runner import RunRecord, run_mission
 
 BUNDLED = sorted(Path(str(resources.files("baobab.missions"))).glob("*.yaml"))
+GOLDEN = Path(__file__).with_name("golden_digests.json")
+UPDATE = "python -m tests.update_golden"
 PREFIX_TIME = 20.0
 """Sim time (s) each bundled mission runs for in the repeat check."""
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
@@ -68,6 +74,23 @@ def _noisy(tmp_path: Path, sigma: float | None = None) -> Mission:
     path = tmp_path / "noisy_bug2.yaml"
     path.write_text(HEADER + NOISY_BUG2, encoding="utf-8")
     return load_mission(path, None if sigma is None else {"sigma": str(sigma)})
+
+
+def _golden() -> dict[str, str]:
+    digests: dict[str, str] = json.loads(GOLDEN.read_text(encoding="utf-8"))
+    return digests
+
+
+def test_the_golden_file_pins_exactly_the_bundled_missions() -> None:
+    assert sorted(_golden()) == [path.stem for path in BUNDLED], f"run {UPDATE}"
+
+
+@pytest.mark.parametrize("path", BUNDLED, ids=lambda p: p.stem)
+def test_every_bundled_mission_gives_its_golden_digest(path: Path) -> None:
+    digest = run_mission(load_mission(path)).trace_digest
+    assert digest == _golden().get(path.stem), (
+        f"{path.stem}'s trace moved: if that is intended, run {UPDATE} and review the diff"
+    )
 
 
 @pytest.mark.parametrize("path", BUNDLED, ids=lambda p: p.stem)
