@@ -35,8 +35,8 @@ def read_golden() -> dict[str, str]:
 
 def main(names: list[str]) -> int:
     """Update the digests of the missions ``names`` (all when empty); return the exit code."""
-    from baobab.missions.loader import load_mission
-    from baobab.missions.runner import run_mission
+    from baobab.missions.language.loader import load_mission
+    from baobab.missions.run.runner import run_mission
 
     missions = {path.stem: path for path in bundled_missions()}
     unknown = sorted(set(names) - set(missions))
