@@ -119,19 +119,13 @@ def _send_move(params: MoveToParams, caps: Capabilities) -> TaskHandle:
 
 
 def _move_to(request: BuildRequest) -> py_trees.behaviour.Behaviour:
-    from baobab.behaviours.actions import GoalTaskLeaf
-
     params = request.params_as(MoveToParams)
-    caps = request.capabilities
-    return GoalTaskLeaf(request.name, lambda: _send_move(params, caps))
+    return request.goal_task(lambda caps: _send_move(params, caps))
 
 
 def _gripper(request: BuildRequest) -> py_trees.behaviour.Behaviour:
-    from baobab.behaviours.actions import GoalTaskLeaf
-
     command = request.params_as(GripperParams).command
-    caps = request.capabilities
-    return GoalTaskLeaf(request.name, lambda: caps.arm_port().gripper(command))
+    return request.goal_task(lambda caps: caps.arm_port().gripper(command))
 
 
 def _object_at(request: BuildRequest) -> py_trees.behaviour.Behaviour:

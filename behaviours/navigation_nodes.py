@@ -10,7 +10,6 @@ on the floor and clear of obstacles by the robot's footprint radius.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from typing import TYPE_CHECKING, Annotated, Literal
 
 from pydantic import Field, ValidationInfo, model_validator
@@ -28,7 +27,6 @@ from baobab.sim.yaml_source import FieldValueError
 if TYPE_CHECKING:  # imported by the factories, when a tree is built (validation needs none)
     import py_trees
 
-    from baobab.sim.tasks import TaskHandle
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
@@ -182,70 +180,46 @@ class IsAtParams(NodeParams):
         return _where(self.location)
 
 
-def _goal_task(name: str, send_goal: Callable[[], TaskHandle]) -> py_trees.behaviour.Behaviour:
-    from baobab.behaviours.actions import GoalTaskLeaf
-
-    return GoalTaskLeaf(name, send_goal)
-
-
 def _navigate_to_pose(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     goal = request.params_as(NavigateToPoseParams).goal.pose2d()
-    caps = request.capabilities
-    return _goal_task(request.name, lambda: caps.navigation_port().navigate_to_pose(goal))
+    return request.goal_task(lambda caps: caps.navigation_port().navigate_to_pose(goal))
 
 
 def _navigate_through_poses(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     goals = [pose.pose2d() for pose in request.params_as(NavigateThroughPosesParams).poses]
-    caps = request.capabilities
-    return _goal_task(request.name, lambda: caps.navigation_port().navigate_through_poses(goals))
+    return request.goal_task(lambda caps: caps.navigation_port().navigate_through_poses(goals))
 
 
 def _follow_waypoints(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     params = request.params_as(FollowWaypointsParams)
     waypoints = [pose.pose2d() for pose in params.waypoints]
-    caps = request.capabilities
-    return _goal_task(
-        request.name,
-        lambda: caps.navigation_port().follow_waypoints(
-            waypoints, params.wait_at_waypoint, params.stop_on_failure
-        ),
+    wait, stop = params.wait_at_waypoint, params.stop_on_failure
+    return request.goal_task(
+        lambda caps: caps.navigation_port().follow_waypoints(waypoints, wait, stop)
     )
 
 
 def _follow_path(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     path = [pose.pose2d() for pose in request.params_as(FollowPathParams).path]
-    caps = request.capabilities
-    return _goal_task(request.name, lambda: caps.navigation_port().follow_path(path))
+    return request.goal_task(lambda caps: caps.navigation_port().follow_path(path))
 
 
 def _spin(request: BuildRequest) -> py_trees.behaviour.Behaviour:
-    params = request.params_as(SpinParams)
-    caps = request.capabilities
-    return _goal_task(
-        request.name,
-        lambda: caps.navigation_port().spin(params.radians, params.time_allowance),
-    )
+    p = request.params_as(SpinParams)
+    return request.goal_task(lambda caps: caps.navigation_port().spin(p.radians, p.time_allowance))
 
 
 def _back_up(request: BuildRequest) -> py_trees.behaviour.Behaviour:
-    params = request.params_as(BackUpParams)
-    caps = request.capabilities
-    return _goal_task(
-        request.name,
-        lambda: caps.navigation_port().back_up(
-            params.distance, params.speed, params.time_allowance
-        ),
+    p = request.params_as(BackUpParams)
+    return request.goal_task(
+        lambda caps: caps.navigation_port().back_up(p.distance, p.speed, p.time_allowance)
     )
 
 
 def _drive_on_heading(request: BuildRequest) -> py_trees.behaviour.Behaviour:
-    params = request.params_as(DriveOnHeadingParams)
-    caps = request.capabilities
-    return _goal_task(
-        request.name,
-        lambda: caps.navigation_port().drive_on_heading(
-            params.distance, params.speed, params.time_allowance
-        ),
+    p = request.params_as(DriveOnHeadingParams)
+    return request.goal_task(
+        lambda caps: caps.navigation_port().drive_on_heading(p.distance, p.speed, p.time_allowance)
     )
 
 
@@ -259,8 +233,7 @@ def _clear_costmaps(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 
 def _assisted_teleop(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     allowance = request.params_as(AssistedTeleopParams).time_allowance
-    caps = request.capabilities
-    return _goal_task(request.name, lambda: caps.navigation_port().assisted_teleop(allowance))
+    return request.goal_task(lambda caps: caps.navigation_port().assisted_teleop(allowance))
 
 
 def _is_at(request: BuildRequest) -> py_trees.behaviour.Behaviour:
@@ -279,14 +252,12 @@ def _is_at(request: BuildRequest) -> py_trees.behaviour.Behaviour:
 
 def _go_to_goal(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     goal = request.params_as(NavigateToPoseParams).goal.pose2d()
-    caps = request.capabilities
-    return _goal_task(request.name, lambda: caps.base_controller_port().go_to_goal(goal))
+    return request.goal_task(lambda caps: caps.base_controller_port().go_to_goal(goal))
 
 
 def _bug2(request: BuildRequest) -> py_trees.behaviour.Behaviour:
     goal = request.params_as(NavigateToPoseParams).goal.pose2d()
-    caps = request.capabilities
-    return _goal_task(request.name, lambda: caps.base_controller_port().bug2(goal))
+    return request.goal_task(lambda caps: caps.base_controller_port().bug2(goal))
 
 
 class GoToGoalParams(NavigateToPoseParams):

@@ -19,6 +19,7 @@ from pydantic.fields import FieldInfo
 
 from baobab.behaviours.ports import Capabilities
 from baobab.sim.errors import BaobabError
+from baobab.sim.tasks import TaskHandle
 from baobab.sim.yaml_models import YamlModel
 
 if TYPE_CHECKING:  # factories import py_trees when they build, so validation never loads it
@@ -84,6 +85,14 @@ class BuildRequest:
     def child(self) -> py_trees.behaviour.Behaviour:
         """The one child of a decorator."""
         return self.children[0]
+
+    def goal_task(self, send: Callable[[Capabilities], TaskHandle]) -> py_trees.behaviour.Behaviour:
+        """A leaf that sends one goal per activation, ``send(capabilities)``, and reports the
+        task's status (:class:`~baobab.behaviours.actions.GoalTaskLeaf`)."""
+        from baobab.behaviours.actions import GoalTaskLeaf  # py_trees: only to build a tree
+
+        capabilities = self.capabilities
+        return GoalTaskLeaf(self.name, lambda: send(capabilities))
 
 
 Factory = Callable[[BuildRequest], "py_trees.behaviour.Behaviour"]
