@@ -359,7 +359,8 @@ COSTMAP_CHOICES = ("local", "global", "all")
 class ClearCostmaps:
     """Nav2's ``clear_entirely_{local,global}_costmap`` services: reset the obstacle layers.
 
-    The static layer stays; the lidar marks what is still there on its next scans.
+    The static layer stays; :meth:`~baobab.nav.server.NavigationServer.clear_costmaps` then
+    marks the latest scan again, so what the lidar still sees stays.
     """
 
     def __init__(self, local: LayeredCostmap, global_: LayeredCostmap) -> None:

@@ -94,8 +94,9 @@ def _culled_like_mujoco(geom: int, geometry: GeomArrays) -> bool:  # pragma: no 
     """Whether ``mj_multiRay``'s culling volumes still hold the geom (box and cylinder only).
 
     ``mj_multiRay`` culls with the geom's ``geom_aabb`` and its body's bounding-volume root,
-    both set when the model is compiled. A geom resized at run time (an obstacle slot) can
-    outgrow them; ``mj_multiRay`` then misses part of it, and so must the scanner.
+    both set when the model is compiled. A geom resized at run time without them (obstacle
+    slots bring theirs along) can outgrow them; ``mj_multiRay`` then misses part of it, and
+    so must the scanner.
     """
     geom_xpos, geom_size, geom_type = geometry.geom_xpos, geometry.geom_size, geometry.geom_type
     geom_aabb, xipos, bvh_aabb = geometry.geom_aabb, geometry.xipos, geometry.bvh_aabb

@@ -1,10 +1,11 @@
 """Where timed events act: the world's movable obstacle slots and the teleop channel.
 
 Obstacles go into the world's movable mocap slots (``movable_0..3``, see
-:mod:`baobab.sim.builder`): the slot's box is resized (``model.geom_size`` and the bounding
-radius ``geom_rbound`` that collision and clearance culling read) and moved
-(``data.mocap_pos``/``mocap_quat``), so physics, the lidar and clearance all see it from that
-step on. Teleop input is held in a :class:`TeleopChannel`; the assisted-teleop capability
+:mod:`baobab.sim.builder`): the slot's box is resized (``model.geom_size``, and the bounding
+radius ``geom_rbound`` and boxes ``geom_aabb`` and ``bvh_aabb`` that collision, ray and
+clearance culling read, as MuJoCo compiles them for that size) and moved
+(``data.mocap_pos``/``mocap_quat``), so physics, the lidar and clearance all see all of it from
+that step on. Teleop input is held in a :class:`TeleopChannel`; the assisted-teleop capability
 reads it from there. A rig provides both; :class:`~baobab.missions.run.events.TimedEvents`
 fills them.
 """
@@ -114,6 +115,10 @@ class ObstacleSlots:
         half = np.array([sx, sy, sz]) / 2
         geom.size[:] = half
         model.geom_rbound[geom.id] = float(np.linalg.norm(half))
+        # MuJoCo culls contacts and rays with the compiled bounding boxes too: the geom's own
+        # and its body's bounding-volume root (the slot's body holds just this geom, centred).
+        model.geom_aabb[geom.id, 3:] = half
+        model.bvh_aabb[model.body_bvhadr[geom.bodyid[0]], 3:] = half
         return self._put(PlacedObstacle(name, slot, x, y, yaw, (sx, sy, sz)))
 
     def move(self, name: str, x: float, y: float, yaw: float | None) -> PlacedObstacle:
