@@ -168,7 +168,7 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
         baseline = read_baseline(args.baseline, mission.name)
     # The simulation stack (MuJoCo, NumPy, the robots) loads only once the mission is valid,
     # so a bad mission is refused as fast as by `baobab validate`; it loads in the run's own
-    # process, and the plotting stack in this one (see run_process).
+    # process, and the plotting stack in this one (see run/child_process.py).
     from baobab.missions.run.run_folder import claimed_run_folder, default_run_folder
 
     folder: Path = args.out if args.out is not None else default_run_folder(mission.name)
