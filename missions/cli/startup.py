@@ -5,9 +5,10 @@ start-up figure of ``bench/run.py``); importing pydantic and building the missio
 most of that. Two costs of that start-up are not work the command needs:
 
 - The command disables pydantic's plugins (``PYDANTIC_DISABLE_PLUGINS=__all__``, see
-:mod:`.command_line`), yet pydantic's plugin loader still imports :mod:`importlib.metadata` (email,
-zipfile, csv, ...: about 25 ms) before it reads that variable. With plugins disabled its only
-function returns no plugins, so the command puts a module in its place that does just that.
+  :mod:`.command_line`), yet pydantic's plugin loader still imports :mod:`importlib.metadata`
+  (email, zipfile, csv, ...: about 25 ms) before it reads that variable. With plugins disabled
+  its only function returns no plugins, so the command puts a module in its place that does
+  just that.
 - Loading the modules makes some hundred thousand objects that live as long as the process;
   the cyclic garbage collector would walk them again and again while they are made (about 5 %
   of ``validate``). :func:`loading_modules` pauses it meanwhile and then freezes them.
