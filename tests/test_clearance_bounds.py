@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from baobab.robots.diff_drive.clearance_bounds import ClearanceBounds
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
-from baobab.robots.turtlebot3.clearance_bounds import ClearanceBounds
 from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP
 
 

@@ -30,7 +30,7 @@ VALIDATE_MUST_NOT_LOAD = (
     "av",
     "baobab.nav",
     "baobab.robots.panda",
-    "baobab.robots.turtlebot3.base",
+    "baobab.robots.diff_drive.base",
     # a loaded mission is valid: validate builds no py_trees tree
     "py_trees",
     # pydantic's plugin discovery, skipped while plugins are disabled
@@ -41,7 +41,7 @@ VALIDATE_MUST_NOT_LOAD = (
     "baobab.missions.run.recording_hook",
     "baobab.missions.cli.teleop_command",
     "baobab.missions.cli.nav2_command",
-    "baobab.robots.turtlebot3.teleop_terminal",
+    "baobab.robots.diff_drive.teleop_terminal",
 )
 REFUSED_RUN_MUST_NOT_LOAD = ("numpy", "scipy", "mujoco", "numba", "matplotlib", "baobab.nav")
 MOBILE_RUN_MUST_NOT_LOAD = (

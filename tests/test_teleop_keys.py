@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import pytest
 
-from baobab.robots.turtlebot3 import LAYOUTS, KeyboardTeleop, Twist2D, layout_named, twist_from_keys
-from baobab.robots.turtlebot3.teleop_terminal import (
+from baobab.robots.diff_drive.teleop_terminal import (
     CTRL_D,
     ESCAPE,
     KeyAction,
     TerminalKeys,
     split_keys,
 )
+from baobab.robots.turtlebot3 import LAYOUTS, KeyboardTeleop, Twist2D, layout_named, twist_from_keys
 
 V, W = 0.25, 1.2
 

@@ -26,8 +26,8 @@ import pytest
 
 from baobab.missions.cli.command_line import main
 from baobab.missions.cli.teleop_command import TICK, TeleopSession, TeleopStatus, drive, help_text
-from baobab.robots.turtlebot3.teleop import LAYOUTS
-from baobab.robots.turtlebot3.teleop_terminal import RawTerminal, TerminalKeys
+from baobab.robots.diff_drive.teleop import LAYOUTS
+from baobab.robots.diff_drive.teleop_terminal import RawTerminal, TerminalKeys
 from baobab.sim.tasks import TaskStatus
 from baobab.sim.world import load_world
 

@@ -187,7 +187,7 @@ def preload_modules(mission: Mission) -> list[str]:
     """The modules a run of ``mission`` imports, for the forkserver to import once."""
     modules = [__name__]
     if mission.robot.mobile:
-        modules.append("baobab.robots.turtlebot3.robot")
+        modules.append("baobab.robots.diff_drive.robot")
         if uses_capability(mission, NAVIGATION):
             modules.append("baobab.nav.server")
     else:

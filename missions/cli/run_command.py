@@ -62,7 +62,7 @@ if TYPE_CHECKING:
 
 
 _ROBOT_KERNELS = {
-    "turtlebot3": ("baobab.robots.turtlebot3.base_kernel", "base_kernel"),
+    "turtlebot3": ("baobab.robots.diff_drive.base_kernel", "base_kernel"),
     "panda": ("baobab.robots.panda.native_loop", "_arm_kernel"),
 }
 """Per robot, the module and function of the compiled kernel its runs need first."""

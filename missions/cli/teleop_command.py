@@ -3,8 +3,8 @@
 The robot starts at the world's spawn with its navigation server running one assisted teleop session
 without a time limit, so the collision projection slows it down near obstacles and stops it before
 them (:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the keyboard teleop's mapping
-(:mod:`baobab.robots.turtlebot3.teleop`: WASD or ZQSD, 0.25 m/s and 1.2 rad/s) with the terminal
-rules of :mod:`baobab.robots.turtlebot3.teleop_terminal` (a press holds for 0.4 s, space stops,
+(:mod:`baobab.robots.diff_drive.teleop`: WASD or ZQSD, 0.25 m/s and 1.2 rad/s) with the terminal
+rules of :mod:`baobab.robots.diff_drive.teleop_terminal` (a press holds for 0.4 s, space stops,
 ``q`` quits). The simulation is paced to the wall clock, the one place where that is right, and a
 status line shows the pose, the nearest obstacle and the scaling assisted teleop applies.
 
@@ -25,8 +25,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, TextIO
 
 from baobab.missions.run.exit_codes import EXIT_INVALID, EXIT_OK
-from baobab.robots.turtlebot3.teleop import LAYOUTS, layout_named
-from baobab.robots.turtlebot3.teleop_terminal import (
+from baobab.robots.diff_drive.teleop import LAYOUTS, layout_named
+from baobab.robots.diff_drive.teleop_terminal import (
     DEFAULT_HOLD_TIME,
     KeyAction,
     RawTerminal,
@@ -86,7 +86,7 @@ class TeleopSession:
 
     def __init__(self, world: World, keys: TerminalKeys) -> None:
         from baobab.nav.server import build_navigation  # the navigation stack loads slowly
-        from baobab.robots.turtlebot3.robot import build_turtlebot3_sim  # MuJoCo: only to drive
+        from baobab.robots.diff_drive.robot import build_turtlebot3_sim  # MuJoCo: only to drive
 
         self.world = world
         self.keys = keys

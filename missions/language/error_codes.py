@@ -39,8 +39,8 @@ def error_codes(capabilities: Iterable[str]) -> dict[str, frozenset[int]]:
     for the planner...); ``expect: error_code`` compares names with names, numbers with numbers.
     """
     from baobab.nav import errors as nav_errors
+    from baobab.robots.diff_drive.controller_errors import BaseControllerError
     from baobab.robots.panda.errors import ArmErrorCode
-    from baobab.robots.turtlebot3.controller_errors import BaseControllerError
 
     given = set(capabilities)
     enums: list[type[enum.IntEnum]] = [MissionErrorCode]

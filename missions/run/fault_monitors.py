@@ -31,7 +31,7 @@ import numpy as np
 
 from baobab.missions.run.rig import MobileRig, Rig
 from baobab.missions.run.tick_loop import MissionErrorCode
-from baobab.robots.turtlebot3.robot import TurtleBot3
+from baobab.robots.diff_drive.robot import TurtleBot3
 from baobab.sim.simulation import Simulation
 
 

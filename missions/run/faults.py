@@ -30,7 +30,7 @@ import numpy as np
 
 from baobab.missions.language.models import FaultEvent
 from baobab.missions.run.rig import MobileRig, Rig
-from baobab.robots.turtlebot3.robot import TurtleBot3
+from baobab.robots.diff_drive.robot import TurtleBot3
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import Simulation
 from baobab.sim.world import Pose2D

@@ -25,8 +25,8 @@ from baobab.missions.run.event_targets import ObstacleSlots, TeleopChannel
 from baobab.missions.run.metrics import MetricRegistry, register_teleop_metrics
 from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
-from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
-from baobab.robots.turtlebot3.robot import TurtleBot3
+from baobab.robots.diff_drive.controller_tasks import BaseControllerServer
+from baobab.robots.diff_drive.robot import TurtleBot3
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle
@@ -170,7 +170,7 @@ class MobileRig:
     """A TurtleBot3 in a 2D world with base controllers and, when needed, navigation."""
 
     def __init__(self, mission: Mission, seed: int) -> None:
-        from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
+        from baobab.robots.diff_drive.robot import build_turtlebot3_sim
 
         world = mission.world
         if world is None:

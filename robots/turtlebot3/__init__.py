@@ -16,21 +16,30 @@ from typing import TYPE_CHECKING
 from baobab.sim.lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
-    from baobab.robots.turtlebot3.base import BASE_CONTROL_PERIOD, DiffDriveBase, Odometry
-    from baobab.robots.turtlebot3.bug2 import (
+    from baobab.robots.diff_drive.base import BASE_CONTROL_PERIOD, DiffDriveBase, Odometry
+    from baobab.robots.diff_drive.bug2 import (
         Bug2Controller,
         Bug2Params,
         dist_to_mline,
         follow_left_wall,
         min_range_in_sector,
     )
-    from baobab.robots.turtlebot3.go_to_goal import (
+    from baobab.robots.diff_drive.go_to_goal import (
         GoToGoalController,
         GoToGoalParams,
         NavState,
         angle_wrap,
         go_to_goal_command,
         goal_distance,
+    )
+    from baobab.robots.diff_drive.robot import TurtleBot3, build_turtlebot3_sim, start_turtlebot3
+    from baobab.robots.diff_drive.teleop import (
+        LAYOUTS,
+        KeyboardTeleop,
+        KeyLayout,
+        Twist2D,
+        layout_named,
+        twist_from_keys,
     )
     from baobab.robots.turtlebot3.model import (
         BURGER,
@@ -40,46 +49,37 @@ if TYPE_CHECKING:
         attach_turtlebot3,
         turtlebot3_spec,
     )
-    from baobab.robots.turtlebot3.robot import TurtleBot3, build_turtlebot3_sim, start_turtlebot3
-    from baobab.robots.turtlebot3.teleop import (
-        LAYOUTS,
-        KeyboardTeleop,
-        KeyLayout,
-        Twist2D,
-        layout_named,
-        twist_from_keys,
-    )
 
 _EXPORTS = {
-    "BASE_CONTROL_PERIOD": "baobab.robots.turtlebot3.base",
+    "BASE_CONTROL_PERIOD": "baobab.robots.diff_drive.base",
     "BURGER": "baobab.robots.turtlebot3.model",
-    "Bug2Controller": "baobab.robots.turtlebot3.bug2",
-    "Bug2Params": "baobab.robots.turtlebot3.bug2",
+    "Bug2Controller": "baobab.robots.diff_drive.bug2",
+    "Bug2Params": "baobab.robots.diff_drive.bug2",
     "BurgerFacts": "baobab.robots.turtlebot3.model",
     "DEFAULT_PREFIX": "baobab.robots.turtlebot3.model",
-    "DiffDriveBase": "baobab.robots.turtlebot3.base",
-    "GoToGoalController": "baobab.robots.turtlebot3.go_to_goal",
-    "GoToGoalParams": "baobab.robots.turtlebot3.go_to_goal",
-    "KeyLayout": "baobab.robots.turtlebot3.teleop",
-    "KeyboardTeleop": "baobab.robots.turtlebot3.teleop",
-    "LAYOUTS": "baobab.robots.turtlebot3.teleop",
-    "NavState": "baobab.robots.turtlebot3.go_to_goal",
-    "Odometry": "baobab.robots.turtlebot3.base",
-    "TurtleBot3": "baobab.robots.turtlebot3.robot",
+    "DiffDriveBase": "baobab.robots.diff_drive.base",
+    "GoToGoalController": "baobab.robots.diff_drive.go_to_goal",
+    "GoToGoalParams": "baobab.robots.diff_drive.go_to_goal",
+    "KeyLayout": "baobab.robots.diff_drive.teleop",
+    "KeyboardTeleop": "baobab.robots.diff_drive.teleop",
+    "LAYOUTS": "baobab.robots.diff_drive.teleop",
+    "NavState": "baobab.robots.diff_drive.go_to_goal",
+    "Odometry": "baobab.robots.diff_drive.base",
+    "TurtleBot3": "baobab.robots.diff_drive.robot",
     "TurtleBot3Names": "baobab.robots.turtlebot3.model",
-    "Twist2D": "baobab.robots.turtlebot3.teleop",
-    "angle_wrap": "baobab.robots.turtlebot3.go_to_goal",
+    "Twist2D": "baobab.robots.diff_drive.teleop",
+    "angle_wrap": "baobab.robots.diff_drive.go_to_goal",
     "attach_turtlebot3": "baobab.robots.turtlebot3.model",
-    "build_turtlebot3_sim": "baobab.robots.turtlebot3.robot",
-    "dist_to_mline": "baobab.robots.turtlebot3.bug2",
-    "follow_left_wall": "baobab.robots.turtlebot3.bug2",
-    "go_to_goal_command": "baobab.robots.turtlebot3.go_to_goal",
-    "goal_distance": "baobab.robots.turtlebot3.go_to_goal",
-    "layout_named": "baobab.robots.turtlebot3.teleop",
-    "min_range_in_sector": "baobab.robots.turtlebot3.bug2",
-    "start_turtlebot3": "baobab.robots.turtlebot3.robot",
+    "build_turtlebot3_sim": "baobab.robots.diff_drive.robot",
+    "dist_to_mline": "baobab.robots.diff_drive.bug2",
+    "follow_left_wall": "baobab.robots.diff_drive.bug2",
+    "go_to_goal_command": "baobab.robots.diff_drive.go_to_goal",
+    "goal_distance": "baobab.robots.diff_drive.go_to_goal",
+    "layout_named": "baobab.robots.diff_drive.teleop",
+    "min_range_in_sector": "baobab.robots.diff_drive.bug2",
+    "start_turtlebot3": "baobab.robots.diff_drive.robot",
     "turtlebot3_spec": "baobab.robots.turtlebot3.model",
-    "twist_from_keys": "baobab.robots.turtlebot3.teleop",
+    "twist_from_keys": "baobab.robots.diff_drive.teleop",
 }
 """Public name -> the module defining it."""
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from baobab.robots.turtlebot3.base import DiffDriveBase
+from baobab.robots.diff_drive.base import DiffDriveBase
 from baobab.robots.turtlebot3.model import (
     BURGER,
     DEFAULT_PREFIX,

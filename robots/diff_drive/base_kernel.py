@@ -1,6 +1,6 @@
 """The TurtleBot3 base's 100 Hz step, compiled, inside MuJoCo's own step.
 
-:class:`~baobab.robots.turtlebot3.base.DiffDriveBase` keeps one :data:`BASE_LOOP` record per
+:class:`~baobab.robots.diff_drive.base.DiffDriveBase` keeps one :data:`BASE_LOOP` record per
 robot; the records of one simulation form one array, run by :func:`base_kernel` inside every
 ``mj_step`` (:mod:`baobab.sim.native_control`). At each of its control ticks a record's step
 ramps the commanded body velocity toward ``cmd_vel`` within the acceleration limits, writes

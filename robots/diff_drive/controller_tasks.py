@@ -15,10 +15,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from baobab.robots.turtlebot3.base import DiffDriveBase
-from baobab.robots.turtlebot3.bug2 import Bug2Controller, Bug2Params
-from baobab.robots.turtlebot3.controller_errors import BaseControllerError
-from baobab.robots.turtlebot3.go_to_goal import (
+from baobab.robots.diff_drive.base import DiffDriveBase
+from baobab.robots.diff_drive.bug2 import Bug2Controller, Bug2Params
+from baobab.robots.diff_drive.controller_errors import BaseControllerError
+from baobab.robots.diff_drive.go_to_goal import (
     GoToGoalController,
     GoToGoalParams,
     goal_distance,

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from baobab.robots.turtlebot3.base_kernel import LOOP_WORDS, WORD, base_loops
-from baobab.robots.turtlebot3.clearance_bounds import ClearanceBounds
+from baobab.robots.diff_drive.base_kernel import LOOP_WORDS, WORD, base_loops
+from baobab.robots.diff_drive.clearance_bounds import ClearanceBounds
 from baobab.robots.turtlebot3.model import (
     BURGER,
     DEFAULT_PREFIX,
