@@ -1,6 +1,6 @@
 """Goal-style tasks over the tutorial controllers: go-to-goal and Bug2 as :class:`TaskHandle`\\ s.
 
-:class:`BaseControllerServer` is the ``base_controllers`` capability of a TurtleBot3: a goal
+:class:`BaseControllerServer` is the ``base_controllers`` capability of a mobile robot: a goal
 starts the matching controller and returns a handle at once; a monitor callback (20 Hz, sim
 time) ends the task when the controller reports the goal reached, or fails it when the robot
 has not got closer to the goal for ``progress_timeout`` seconds of sim time (stuck against an

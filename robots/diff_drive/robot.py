@@ -1,79 +1,109 @@
-"""A TurtleBot3 Burger running in a simulation: world + robot in one call, and its handle."""
+"""A differential-drive robot running in a simulation: world + robot in one call, and its handle.
+
+:func:`build_mobile_sim` builds a world with a robot from its facts (its own body, or the
+generic one of :mod:`baobab.robots.diff_drive.model`), compiles it and starts the robot: the
+base controller at 100 Hz and the lidar at its scan rate. A registry entry does it by name
+(:meth:`baobab.robots.catalog.RobotInfo.build_sim`).
+"""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
+import mujoco
+
 from baobab.robots.diff_drive.base import DiffDriveBase
-from baobab.robots.turtlebot3.model import (
-    BURGER,
-    DEFAULT_PREFIX,
-    BurgerFacts,
-    TurtleBot3Names,
-    attach_turtlebot3,
-)
+from baobab.robots.diff_drive.facts import DiffDriveFacts
+from baobab.robots.diff_drive.model import attach_robot, diff_drive_spec
+from baobab.robots.diff_drive.names import DiffDriveNames
 from baobab.sim.builder import world_spec
+from baobab.sim.errors import SimulationError
 from baobab.sim.lidar import Lidar
 from baobab.sim.simulation import Simulation
 from baobab.sim.world import Pose2D, World, load_world
 
+DEFAULT_PREFIX = "robot/"
+"""The name prefix of a robot's MuJoCo elements when nothing else says."""
+
+BodyBuilder = Callable[[DiffDriveFacts], mujoco.MjSpec]
+"""Builds a robot's stand-alone MjSpec (``base_link`` at the origin) from its facts."""
+
 
 @dataclass
-class TurtleBot3:
-    """A Burger living in a :class:`Simulation`: its base and its lidar, both already running."""
+class MobileRobot:
+    """A differential-drive robot living in a :class:`Simulation`: its base and its lidar,
+    both already running, its MuJoCo names and its facts."""
 
     sim: Simulation
     base: DiffDriveBase
     lidar: Lidar
-    names: TurtleBot3Names
+    names: DiffDriveNames
+    facts: DiffDriveFacts
 
 
-def start_turtlebot3(
+def scan_rate(sim: Simulation, rate: float) -> float:
+    """``rate`` (Hz) if its period is a whole number of physics steps, else the nearest rate
+    that is (the RPLIDAR's 5.5 Hz scans every 0.18 s at the 5 ms step)."""
+    try:
+        sim.steps_for(1.0 / rate, what="scan period")
+    except SimulationError:
+        steps = max(round(1.0 / rate / sim.physics_dt), 1)
+        return 1.0 / (steps * sim.physics_dt)
+    return rate
+
+
+def start_mobile_robot(
     sim: Simulation,
+    facts: DiffDriveFacts,
     *,
     prefix: str = DEFAULT_PREFIX,
-    facts: BurgerFacts = BURGER,
     lidar_noise_std: float = 0.0,
-) -> TurtleBot3:
-    """Start the base controller (100 Hz) and the LDS-01 (5 Hz) of a Burger compiled into ``sim``.
+) -> MobileRobot:
+    """Start the base controller (100 Hz) and the lidar of a robot compiled into ``sim``.
 
     Args:
-        sim: a simulation whose model holds a Burger attached with ``prefix``.
-        prefix: name prefix of the robot's MuJoCo elements.
+        sim: a simulation whose model holds the robot attached with ``prefix``.
         facts: the robot's figures.
+        prefix: name prefix of the robot's MuJoCo elements.
         lidar_noise_std: standard deviation of the Gaussian range noise (m).
     """
-    names = TurtleBot3Names(prefix)
+    names = DiffDriveNames(prefix)
     base = DiffDriveBase(sim, prefix=prefix, facts=facts)
-    lidar = Lidar(
+    lidar = facts.lidar
+    scanner = Lidar(
         sim,
         names.lidar_site,
-        rate=facts.lidar_rate,
-        beams=facts.lidar_beams,
-        range_min=facts.lidar_range_min,
-        range_max=facts.lidar_range_max,
+        rate=scan_rate(sim, lidar.rate),
+        beams=lidar.beams,
+        range_min=lidar.range_min,
+        range_max=lidar.range_max,
         noise_std=lidar_noise_std,
         frame_id=f"{prefix}base_scan",
     )
-    return TurtleBot3(sim=sim, base=base, lidar=lidar, names=names)
+    return MobileRobot(sim=sim, base=base, lidar=scanner, names=names, facts=facts)
 
 
-def build_turtlebot3_sim(
+def build_mobile_sim(
     world: World | str,
+    facts: DiffDriveFacts,
     start: Pose2D | None = None,
     *,
+    body: BodyBuilder = diff_drive_spec,
+    prefix: str = DEFAULT_PREFIX,
     seed: int = 0,
     lidar_noise_std: float = 0.0,
-    prefix: str = DEFAULT_PREFIX,
-) -> tuple[Simulation, TurtleBot3]:
-    """Build ``world`` with a Burger at ``start``, compile it and start the robot.
+) -> tuple[Simulation, MobileRobot]:
+    """Build ``world`` with the robot of ``facts`` at ``start``, compile it, start the robot.
 
     Args:
         world: the world, or the name of a bundled world, or a path to a world file.
+        facts: the robot's figures.
         start: the robot's pose in the map frame; defaults to the world's default spawn.
+        body: builds the robot's MjSpec from its facts (default: the generic body).
+        prefix: name prefix of the robot's MuJoCo elements.
         seed: seed of the simulation's random generator (lidar noise).
         lidar_noise_std: standard deviation of the Gaussian range noise (m).
-        prefix: name prefix of the robot's MuJoCo elements.
 
     Returns:
         The simulation and the robot handle with its base controller and lidar registered.
@@ -85,6 +115,6 @@ def build_turtlebot3_sim(
         world = load_world(world)
     pose = world.spawn if start is None else start
     spec = world_spec(world)
-    attach_turtlebot3(spec, pose, prefix=prefix)
+    attach_robot(spec, body(facts), pose, prefix=prefix)
     sim = Simulation(spec.compile(), seed=seed)
-    return sim, start_turtlebot3(sim, prefix=prefix, lidar_noise_std=lidar_noise_std)
+    return sim, start_mobile_robot(sim, facts, prefix=prefix, lidar_noise_std=lidar_noise_std)
