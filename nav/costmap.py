@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from baobab.robots.footprint import Footprint
 from baobab.sim.records import record
 
 FREE_SPACE = 0
@@ -49,6 +50,8 @@ class Costmap2D:
         default_value: cost every cell starts with.
         inscribed_radius: the robot's inscribed radius (m) the inflation used, for consumers
             that turn costs back into distances (Regulated Pure Pursuit's cost regulation).
+        footprint: the robot's footprint the collision checks lay on the cells; None or a
+            circle: a robot centre collides at ``INSCRIBED_INFLATED_OBSTACLE``.
     """
 
     def __init__(
@@ -59,6 +62,7 @@ class Costmap2D:
         origin: tuple[float, float] = (0.0, 0.0),
         default_value: int = FREE_SPACE,
         inscribed_radius: float = 0.0,
+        footprint: Footprint | None = None,
     ) -> None:
         if size_x <= 0 or size_y <= 0:
             raise ValueError(f"a costmap needs at least one cell, got {size_x} x {size_y}")
@@ -69,6 +73,10 @@ class Costmap2D:
         self.origin_y = float(origin[1])
         self.default_value = int(default_value)
         self.inscribed_radius = float(inscribed_radius)
+        self.footprint = footprint
+        vertices = () if footprint is None else footprint.polygon
+        self.outline = np.asarray(vertices, dtype=float).reshape(-1, 2)
+        """The polygon footprint's vertices in ``base_link`` (m); no rows for a circle."""
         self.data = np.full((size_y, size_x), default_value, dtype=np.uint8)
         self._packed_key: tuple[float, float, float, float] | None = None
         self._packed = np.empty(0, dtype=GRID)
@@ -82,6 +90,11 @@ class Costmap2D:
     def size_y(self) -> int:
         """Cells along y."""
         return int(self.data.shape[0])
+
+    @property
+    def has_polygon(self) -> bool:
+        """True when collisions are checked with a polygon footprint (:attr:`outline`)."""
+        return len(self.outline) > 0
 
     @property
     def origin(self) -> tuple[float, float]:
@@ -170,6 +183,7 @@ class Costmap2D:
             self.origin,
             self.default_value,
             self.inscribed_radius,
+            self.footprint,
         )
         twin.data[:] = self.data
         return twin

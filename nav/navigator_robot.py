@@ -3,29 +3,31 @@
 The navigation server takes any :class:`~baobab.nav.interfaces.MobileBase` and
 :class:`~baobab.nav.interfaces.ScanSource`. The Nav2 facade is different, because a Nav2 script
 constructs ``BasicNavigator()`` and expects a robot to be there: :func:`build_simulated_robot`
-builds one from ``baobab.robots`` (the layer below ``nav``; robots never import nav).
+builds the one the robot registry (or a user's robot file) describes, and the navigation
+settings its facts decide (``baobab.robots`` is the layer below ``nav``; robots never import
+nav).
 
 Checking a pose (:func:`check_free`, :func:`pose_is_free`) loads no physics: ``baobab nav2``
 and ``baobab teleop`` refuse a blocked start before MuJoCo and the robot's compiled loop load,
-so the robot package is imported when a robot is built.
+so the robot's physics is built only when a robot is.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
+from baobab.robots.catalog import MOBILE_ROBOTS, RobotInfo, default_mobile_robot
+from baobab.robots.footprint import Footprint
+from baobab.robots.robot_file import load_robot
 from baobab.sim.errors import BaobabError
-from baobab.sim.geometry import nearest_obstacle
 from baobab.sim.world import Pose2D, World
 
 if TYPE_CHECKING:  # checking a pose (baobab nav2, baobab teleop) loads no physics
     from baobab.nav.interfaces import MobileBase, ScanSource
     from baobab.sim.simulation import Simulation
-
-ROBOT_MODELS = ("turtlebot3",)
-"""The robot names a navigator accepts."""
 
 
 class NavigatorSetupError(BaobabError, ValueError):
@@ -37,58 +39,90 @@ class SimulatedRobot:
     """A robot running in its own simulation, as the navigator needs it.
 
     Attributes:
+        info: the robot's registry entry (or its robot file's).
         sim: the simulation (world + robot), its callbacks registered.
         base: the drive, ground-truth pose in the map frame (the sim localises perfectly).
         lidar: the 2D scanner feeding the costmaps.
-        footprint_radius: radius (m) of the base's circular footprint.
         teleport: puts the robot at rest at a map-frame pose (``setInitialPose``).
     """
 
+    info: RobotInfo
     sim: Simulation
     base: MobileBase
     lidar: ScanSource
-    footprint_radius: float
     teleport: Callable[[Pose2D], None]
 
+    @property
+    def footprint(self) -> Footprint:
+        """The robot's real outline (m, ``base_link``)."""
+        return self.info.mobile_facts.footprint
 
-def build_simulated_robot(robot: str, world: World, start: Pose2D, seed: int) -> SimulatedRobot:
-    """Build ``world`` with ``robot`` at ``start`` in a new simulation seeded with ``seed``.
+
+def navigator_robot(robot: str | Path | RobotInfo | None) -> RobotInfo:
+    """The mobile robot ``robot`` names: a registry entry, a bundled name or alias, a robot
+    file's path; None is the registry's default mobile robot.
 
     Raises:
-        NavigatorSetupError: ``robot`` is not one of :data:`ROBOT_MODELS`, or ``start`` is not
-            free for its footprint.
+        NavigatorSetupError: an unknown name, or a robot that does not drive.
+        RobotFileError: a robot file that cannot be used (located).
     """
-    if robot != "turtlebot3":
+    if robot is None:
+        return default_mobile_robot()
+    try:
+        info = robot if isinstance(robot, RobotInfo) else load_robot(robot)
+    except NavigatorSetupError:
+        raise
+    except BaobabError as exc:
+        if isinstance(robot, str) and "unknown robot" in str(exc):
+            raise NavigatorSetupError(
+                f"unknown robot {robot!r}; a navigator drives one of: "
+                f"{', '.join(MOBILE_ROBOTS)}, or a robot file"
+            ) from None
+        raise
+    if not info.mobile:
         raise NavigatorSetupError(
-            f"unknown robot {robot!r}; a navigator drives one of: {', '.join(ROBOT_MODELS)}"
+            f"robot '{info.name}' does not drive; a navigator drives one of: "
+            f"{', '.join(MOBILE_ROBOTS)}, or a robot file"
         )
-    from baobab.robots.turtlebot3 import BURGER, build_turtlebot3_sim  # MuJoCo: only to build
+    return info
 
-    check_free(world, start, BURGER.footprint_radius, what="start pose")
-    sim, turtlebot = build_turtlebot3_sim(world, start, seed=seed)
+
+def build_simulated_robot(
+    info: RobotInfo, world: World, start: Pose2D, seed: int
+) -> SimulatedRobot:
+    """Build ``world`` with the mobile robot ``info`` at ``start`` in a new simulation seeded
+    with ``seed``.
+
+    Raises:
+        NavigatorSetupError: ``start`` is not free for the robot's footprint.
+    """
+    check_free(world, start, info.mobile_facts.footprint, what="start pose")
+    sim, robot = info.build_sim(world, start, seed=seed)
     return SimulatedRobot(
-        sim=sim,
-        base=turtlebot.base,
-        lidar=turtlebot.lidar,
-        footprint_radius=BURGER.footprint_radius,
-        teleport=turtlebot.base.teleport,
+        info=info, sim=sim, base=robot.base, lidar=robot.lidar, teleport=robot.base.teleport
     )
 
 
-def pose_is_free(world: World, pose: Pose2D, radius: float) -> bool:
-    """True when a footprint of ``radius`` (m) at ``pose`` is clear of obstacles, on the floor."""
-    return nearest_obstacle(world, pose.x, pose.y)[1] >= radius
+def pose_is_free(world: World, pose: Pose2D, footprint: Footprint) -> bool:
+    """True when ``footprint`` at ``pose`` is clear of obstacles and on the floor."""
+    return footprint.clearance_in(world, pose)[1] >= 0.0
 
 
-def check_free(world: World, pose: Pose2D, radius: float, *, what: str) -> None:
-    """Raise unless a footprint of ``radius`` (m) at ``pose`` is free in ``world``.
+def check_free(world: World, pose: Pose2D, footprint: Footprint, *, what: str) -> None:
+    """Raise unless ``footprint`` at ``pose`` is free in ``world``.
 
     Raises:
         NavigatorSetupError: naming the obstacle (or the floor edge) in the way.
     """
-    name, distance = nearest_obstacle(world, pose.x, pose.y)
-    if distance < radius:
-        raise NavigatorSetupError(
-            f"{what} ({pose.x:.3f}, {pose.y:.3f}) is not free in world '{world.name}': "
-            f"'{name}' is {distance:.3f} m from it, the robot's footprint needs {radius:.3f} m"
-        )
+    name, clearance = footprint.clearance_in(world, pose)
+    if clearance >= 0.0:
+        return
+    if footprint.radius is not None:
+        needs = f"'{name}' is {clearance + footprint.radius:.3f} m from it, the robot's "
+        needs += f"footprint needs {footprint.radius:.3f} m"
+    else:
+        needs = f"the robot's footprint at yaw {pose.yaw:.2f} rad reaches {-clearance:.3f} m "
+        needs += f"into '{name}'"
+    raise NavigatorSetupError(
+        f"{what} ({pose.x:.3f}, {pose.y:.3f}) is not free in world '{world.name}': {needs}"
+    )
