@@ -113,7 +113,7 @@ class GeomScene:
         model: the compiled model.
         groups: geom groups to include (default: static obstacles, movable obstacles, robots).
         frame_id: frame of the entities; the world frame of the sim (``map`` for mobile
-            robots, which localise perfectly, ``world`` for the Panda scene).
+            robots, which localise perfectly, ``world`` for an arm's scene).
         include_planes: draw finite planes as thin cubes.
         hide_beyond: distance (m) along x or y past which a geom is not drawn.
         id_prefix: prepended to every entity id (body names), to keep topics apart.

@@ -14,7 +14,8 @@ import mujoco
 import numpy as np
 
 from baobab.nav import NavigationServer, build_navigation
-from baobab.robots.turtlebot3 import TurtleBot3, build_turtlebot3_sim
+from baobab.robots.diff_drive import MobileRobot
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP, movable_slot_name
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle, TaskStatus
@@ -58,7 +59,7 @@ class NavRig:
 
     world: World
     sim: Simulation
-    robot: TurtleBot3
+    robot: MobileRobot
     server: NavigationServer
     contacts: ContactWatch
 

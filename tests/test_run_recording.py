@@ -131,7 +131,7 @@ def run_json(
     return code, json.loads(captured.out), captured.err
 
 
-# --- TurtleBot3 -----------------------------------------------------------------------------
+# --- TurtleBot3 ------------------------------------------------------------------------------
 
 
 def test_a_recorded_and_filmed_go_to_goal_run_is_the_same_run(

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 
+from baobab.robots.diff_drive import LAYOUTS, KeyboardTeleop, Twist2D, layout_named, twist_from_keys
 from baobab.robots.diff_drive.teleop_terminal import (
     CTRL_D,
     ESCAPE,
@@ -12,7 +13,6 @@ from baobab.robots.diff_drive.teleop_terminal import (
     TerminalKeys,
     split_keys,
 )
-from baobab.robots.turtlebot3 import LAYOUTS, KeyboardTeleop, Twist2D, layout_named, twist_from_keys
 
 V, W = 0.25, 1.2
 

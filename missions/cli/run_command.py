@@ -54,6 +54,7 @@ from baobab.missions.run.recording_hook import (
     DEFAULT_VIDEO_SIZE,
     RecordingOptions,
 )
+from baobab.robots.catalog import RobotInfo
 from baobab.sim.errors import BaobabError
 
 if TYPE_CHECKING:
@@ -61,22 +62,16 @@ if TYPE_CHECKING:
     from baobab.missions.testing.baseline import Baseline
 
 
-_ROBOT_KERNELS = {
-    "turtlebot3": ("baobab.robots.diff_drive.base_kernel", "base_kernel"),
-    "panda": ("baobab.robots.panda.native_loop", "_arm_kernel"),
-}
-"""Per robot, the module and function of the compiled kernel its runs need first."""
-
-
-def kernels_cached(robot: str) -> bool:
-    """Whether numba's disk cache holds ``robot``'s kernel (if not, this run compiles them).
+def kernels_cached(robot: RobotInfo) -> bool:
+    """Whether numba's disk cache holds the kernel ``robot``'s runs need first (its registry
+    entry's ``kernel``; if not, this run compiles them).
 
     numba keeps an index file ``<module>.<function>-<line>.py<version>.nbi`` per cached
     function, in ``__pycache__`` beside the module or under ``NUMBA_CACHE_DIR``.
     """
-    if robot not in _ROBOT_KERNELS:
+    if robot.kernel is None:
         return True
-    module, function = _ROBOT_KERNELS[robot]
+    module, function = robot.kernel
     spec = importlib.util.find_spec(module)
     if spec is None or spec.origin is None:
         return True
@@ -213,13 +208,13 @@ def _run_and_save(
         stream.write(f"running {title}\n")
         stream.flush()
     try:
-        if not kernels_cached(mission.robot.name):
+        if not kernels_cached(mission.robot):
             sys.stderr.write(
                 "first run on this machine: compiling baobab's kernels "
                 "(about a minute; later runs load them from the cache)\n"
             )
         if not args.json:
-            progress.phase(_starting(mission.robot.name))
+            progress.phase(_starting(mission.robot))
         simulate = simulation_job(args, mission, recording, baseline, folder, progress, signals)
         show = shower(progress)
         try:
@@ -238,7 +233,7 @@ def _run_and_save(
         progress.close()
 
 
-def _starting(robot: str) -> str:
+def _starting(robot: RobotInfo) -> str:
     """What the live display says until the run's first tick."""
     if kernels_cached(robot):
         return "starting: loading MuJoCo, the world, the robot and its compiled kernels..."
