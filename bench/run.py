@@ -3,6 +3,7 @@
     python bench/run.py                 # every figure but the test suite (a few minutes)
     python bench/run.py --with-tests    # also time `pytest -n 2` (about 3 more minutes)
     python bench/run.py --only planner startup
+    python bench/run.py --only robots    # cafe_delivery's real-time factor on each mobile robot
     python bench/run.py --only longrun badinputs   # optional sections, not in the default set
 
 Ratios are taken against a baseline measured in the same run (bare MuJoCo stepping of the same
@@ -37,6 +38,8 @@ MOBILE_MISSIONS = (
     "assisted_teleop",
 )
 ARM_MISSIONS = ("panda_pick",)
+ROBOT_MISSION = "cafe_delivery"
+"""The mission every bundled mobile robot runs for the per-robot real-time factor."""
 
 
 @dataclass
@@ -81,8 +84,11 @@ def _bundled(name: str) -> Path:
     return Path(resolve_mission(name))
 
 
-def _run_in_process(name: str, runs: int = 2) -> tuple[float, float, float]:
-    """Run a bundled mission in this process; return (sim time, loop wall time, bare wall time).
+def _run_in_process(
+    name: str, runs: int = 2, robot: str | None = None
+) -> tuple[float, float, float]:
+    """Run a bundled mission in this process (on ``robot`` instead of its own, if given);
+    return (sim time, loop wall time, bare wall time).
 
     The loop time is the best of ``runs`` runs: the first run of a process also loads the
     compiled kernels' caches, which is start-up (figure 4), not simulation speed. The bare
@@ -95,7 +101,7 @@ def _run_in_process(name: str, runs: int = 2) -> tuple[float, float, float]:
     from baobab.missions.run.rig import build_rig
     from baobab.missions.run.runner import run_mission
 
-    mission = load_mission(_bundled(name))
+    mission = load_mission(_bundled(name), robot=robot)
     records = [run_mission(mission) for _ in range(runs)]
     record = min(records, key=lambda run: run.wall_time)
     sim_time = float(record.outcome.sim_time)
@@ -137,6 +143,41 @@ def mission_figures() -> list[Figure]:
                     3.0,
                     False,
                     "python bench/run.py --only missions",
+                )
+            )
+    return figures
+
+
+def robot_figures() -> list[Figure]:
+    """The real-time factor of the same mission (:data:`ROBOT_MISSION`) on each mobile robot,
+    and its ratio to the default robot's (both measured in this run)."""
+    from baobab.robots.catalog import DEFAULT_MOBILE_ROBOT, MOBILE_ROBOTS
+
+    figures: list[Figure] = []
+    factors: dict[str, float] = {}
+    for robot in MOBILE_ROBOTS:
+        sim_time, wall, _ = _run_in_process(ROBOT_MISSION, robot=robot)
+        factors[robot] = sim_time / wall
+        figures.append(
+            Figure(
+                f"real-time factor {ROBOT_MISSION} on {robot}",
+                factors[robot],
+                "x",
+                100.0,
+                True,
+                f"baobab run {ROBOT_MISSION} --robot {robot} --json (sim_time / wall_time)",
+            )
+        )
+    for robot in MOBILE_ROBOTS:
+        if robot != DEFAULT_MOBILE_ROBOT:
+            figures.append(
+                Figure(
+                    f"real-time factor {robot} / {DEFAULT_MOBILE_ROBOT} ({ROBOT_MISSION})",
+                    factors[robot] / factors[DEFAULT_MOBILE_ROBOT],
+                    "ratio",
+                    0.5,
+                    True,
+                    "python bench/run.py --only robots",
                 )
             )
     return figures
@@ -426,6 +467,7 @@ def test_suite_figures() -> list[Figure]:
 
 SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "missions": mission_figures,
+    "robots": robot_figures,
     "planner": planner_figures,
     "startup": startup_figures,
     "arm": arm_figures,

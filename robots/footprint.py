@@ -186,9 +186,6 @@ def _simple_polygon_problem(points: Sequence[Point]) -> str | None:
     edges = _edges(points)
     if any(math.dist(a, b) < 1e-9 for a, b in edges):
         return "two consecutive footprint vertices are the same point"
-    area = 0.5 * sum(_cross((0.0, 0.0), a, b) for a, b in edges)
-    if abs(area) < 1e-9:
-        return "the footprint polygon has no area"
     count = len(edges)
     for i in range(count):
         for j in range(i + 2, count):
@@ -199,6 +196,9 @@ def _simple_polygon_problem(points: Sequence[Point]) -> str | None:
                     f"footprint edges {i + 1} and {j + 1} cross: the polygon is not simple "
                     "(list the vertices in order around the robot)"
                 )
+    area = 0.5 * sum(_cross((0.0, 0.0), a, b) for a, b in edges)
+    if abs(area) < 1e-9:
+        return "the footprint polygon has no area"
     if not _contains(points, (0.0, 0.0)):
         return "the footprint polygon must hold base_link (0, 0), the point the robot turns about"
     return None

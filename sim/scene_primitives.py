@@ -83,6 +83,15 @@ class Label:
 
 
 @dataclass(frozen=True)
+class Outline:
+    """A closed line through ``points`` (m, in its entity's frame), ``thickness`` m wide."""
+
+    points: tuple[Vector3, ...]
+    colour: Rgba
+    thickness: float = 0.01
+
+
+@dataclass(frozen=True)
 class Entity:
     """One scene entity: an id (replaced by later entities with the same id) and its parts."""
 
@@ -92,6 +101,7 @@ class Entity:
     arrows: tuple[Arrow, ...] = ()
     labels: tuple[Label, ...] = ()
     metadata: Mapping[str, str] = field(default_factory=dict)
+    outlines: tuple[Outline, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from baobab.missions.cli.arguments import add_set, port, positive_int, video_size
+from baobab.missions.cli.arguments import add_robot, add_set, port, positive_int, video_size
 from baobab.missions.cli.interrupts import RunSignals
 from baobab.missions.cli.run_job import (
     FinishedRun,
@@ -88,6 +88,7 @@ def configure_run(parser: argparse.ArgumentParser) -> None:
         "mission", metavar="MISSION", help="a mission file, or the name of a bundled mission"
     )
     add_set(parser)
+    add_robot(parser, "the mission's robot (where the mission fits it)")
     parser.add_argument("--seed", type=int, help="override the mission's seed")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
     parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
@@ -153,7 +154,7 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
     recording = recording_options(args)
     if args.seed is not None and args.seed < 0:
         raise BaobabError(f"--seed must be >= 0, got {args.seed}")
-    mission = load_mission(resolve_mission(args.mission), overrides)
+    mission = load_mission(resolve_mission(args.mission), overrides, robot=args.robot)
     baseline = None
     if args.baseline and not args.baseline.exists():  # made after the run: must be writable
         check_output_file("--baseline", args.baseline, create_folders=True)

@@ -43,6 +43,8 @@ class MobilePlot:
     hit_points: list[Point] = field(default_factory=list)
     leave_points: list[Point] = field(default_factory=list)
     min_clearance_at: Point | None = None
+    footprints: list[list[Point]] = field(default_factory=list)
+    """The robot's footprint (its outline, map frame) at the start and at the end."""
 
 
 @dataclass

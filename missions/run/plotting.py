@@ -75,6 +75,7 @@ def _mobile(axes: Axes, data: MobilePlot) -> None:
     _planned_paths(axes, data.planned_paths)
     if len(data.xs) > 1:
         _trajectory(axes, data)
+    _footprints(axes, data.footprints)
     _markers(axes, data)
     _locations(axes, data, halo)
     _goals(axes, data, halo)
@@ -190,6 +191,25 @@ def _trajectory(axes: Axes, data: MobilePlot) -> None:
     ring: dict[str, Any] = {"mfc": "none", "mec": "black", "mew": 1.8, "ms": 12}
     axes.plot(*start, "o", **ring, zorder=5.5, label="start")
     axes.plot(*end, "s", color="black", ms=5, zorder=5.5, label="end")
+
+
+def _footprints(axes: Axes, outlines: list[list[tuple[float, float]]]) -> None:
+    """The robot's footprint, as the navigation stack sees it, where it started and ended."""
+    from matplotlib.patches import Polygon
+
+    for index, outline in enumerate(outlines):
+        axes.add_patch(
+            Polygon(
+                outline,
+                closed=True,
+                fill=False,
+                edgecolor="black",
+                linestyle="--",
+                linewidth=1.0,
+                zorder=5.2,
+                label="footprint" if index == 0 else None,
+            )
+        )
 
 
 def _markers(axes: Axes, data: MobilePlot) -> None:

@@ -36,7 +36,7 @@ from baobab.missions.run.recording_topics import Topics
 from baobab.missions.run.rig import ArmRig, MobileRig
 from baobab.sim.lidar import LaserScan
 from baobab.sim.recording import Recorder, Trail, Transform
-from baobab.sim.scene_primitives import GeomScene, location_entities
+from baobab.sim.scene_primitives import Entity, GeomScene, Outline, location_entities
 from baobab.sim.simulation import PeriodicHandle
 from baobab.sim.world import Pose2D
 
@@ -50,6 +50,9 @@ ARM_STATE_PERIOD = 0.01
 """Impedance poses and joint states (s): 100 Hz."""
 ARM_SCENE_PERIOD = 0.05
 """The arm's scene (s): 20 Hz."""
+FOOTPRINT_HEIGHT = 0.005
+"""m above the floor the footprint's outline is drawn at."""
+FOOTPRINT_COLOUR = (0.95, 0.55, 0.10, 1.0)
 WORLD_SCENE_GROUPS = (1, 2)
 """Static and movable obstacles."""
 ROBOT_SCENE_GROUPS = (3,)
@@ -87,6 +90,11 @@ class MobileStreams(Streams):
         self._world_scene = GeomScene(model, groups=WORLD_SCENE_GROUPS)
         self._robot_scene = GeomScene(model, groups=ROBOT_SCENE_GROUPS)
         self._locations = {name: rig.mission.locations[name].pose2d() for name in rig.locations}
+        footprint = rig.info.tuning.footprint  # Nav2's published_footprint: padded
+        outline = tuple((x, y, FOOTPRINT_HEIGHT) for x, y in footprint.outline)
+        self._footprint = Entity(
+            "footprint", "base_link", outlines=(Outline(outline, FOOTPRINT_COLOUR),)
+        )
         sim = rig.sim
         self._handles = [
             sim.every(MOBILE_FAST_PERIOD, self._fast, name="record pose"),
@@ -125,7 +133,8 @@ class MobileStreams(Streams):
 
     def _robot(self, t: float) -> None:
         data = self.rig.sim.data
-        self.recorder.log_scene(Topics.ROBOT_SCENE, t, self._robot_scene.entities(data))
+        entities = [*self._robot_scene.entities(data), self._footprint]
+        self.recorder.log_scene(Topics.ROBOT_SCENE, t, entities)
 
     def _slow(self, t: float) -> None:
         recorder = self.recorder

@@ -282,9 +282,18 @@ class MobileRig:
             hit_points=list(bug2.hit_points) if bug2 else [],
             leave_points=list(bug2.leave_points) if bug2 else [],
             min_clearance_at=None if clearance_at is None else clearance_at[1:],
+            footprints=[self._footprint_at(*probe.start), self._footprint_at(*self._pose())],
         )
         self._navigation_layers(plot)
         return plot
+
+    def _pose(self) -> tuple[float, float, float]:
+        pose = self.robot.base.pose()
+        return pose.x, pose.y, pose.yaw
+
+    def _footprint_at(self, x: float, y: float, yaw: float) -> list[tuple[float, float]]:
+        """The footprint the navigation stack uses (padded), map frame (m), at a pose."""
+        return self.info.tuning.footprint.at(Pose2D(x=x, y=y, yaw=yaw))
 
     def _navigation_layers(self, plot: MobilePlot) -> None:
         if self.navigation is None:
