@@ -10,6 +10,7 @@ collision checks read it.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -37,6 +38,17 @@ GRID = np.dtype(
 )
 """A costmap's geometry as compiled kernels read it (:meth:`Costmap2D.pack`); the cells travel
 beside it as their own array."""
+
+
+class CostmapArrays(NamedTuple):
+    """A costmap as compiled kernels read it (:meth:`Costmap2D.arrays`)."""
+
+    cells: np.ndarray
+    """``uint8`` costs, ``[row, col]``."""
+    grid: np.ndarray
+    """The :data:`GRID` record."""
+    outline: np.ndarray
+    """``(N, 2)`` polygon footprint in ``base_link`` (m); no rows for a circle."""
 
 
 class Costmap2D:
@@ -173,6 +185,10 @@ class Costmap2D:
         if key != self._packed_key:
             self._packed, self._packed_key = record(GRID, self), key
         return self._packed
+
+    def arrays(self) -> CostmapArrays:
+        """The cells, geometry and footprint as one :class:`CostmapArrays` (no copies)."""
+        return CostmapArrays(self.data, self.pack(), self.outline)
 
     def copy(self) -> Costmap2D:
         """An independent copy (geometry, metadata and cells)."""

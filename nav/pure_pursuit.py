@@ -139,10 +139,8 @@ class RegulatedPurePursuit:
             self.closest_index,
             (x, y, pose.yaw),
             velocity,
-            costmap.data,
-            costmap.pack(),
+            costmap.arrays(),
             self._settings,
-            costmap.outline,
         )
         self.closest_index = step.closest
         if step.status == kernel.NO_POSE_NEAR:

@@ -10,7 +10,8 @@ largest cost per cycle. The tests compare it with a plain Python controller
 
 The kernel reads two records (:mod:`baobab.sim.records`): the settings (:data:`RPP_SETTINGS`,
 from :meth:`~baobab.nav.pure_pursuit.RegulatedPurePursuitParams.pack`) and the local costmap's
-geometry (:data:`~baobab.nav.costmap.GRID`); it returns a :class:`PursuitStep`.
+geometry (:data:`~baobab.nav.costmap.GRID`, in :class:`~baobab.nav.costmap.CostmapArrays` with
+the cells and the footprint's outline); it returns a :class:`PursuitStep`.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from baobab.nav.costmap import (
     INSCRIBED_INFLATED_OBSTACLE,
     MAX_NON_OBSTACLE,
     NO_INFORMATION,
+    CostmapArrays,
 )
 from baobab.nav.footprint_kernel import footprint_collides
 from baobab.sim.records import Record
@@ -276,10 +278,8 @@ def rpp_step(
     begin: int,
     pose: Pose,
     velocity: tuple[float, float],
-    cells: np.ndarray,
-    grid: np.ndarray,
+    costmap: CostmapArrays,
     settings: np.ndarray,
-    outline: np.ndarray,
 ) -> PursuitStep:  # pragma: no cover - compiled
     """One Regulated Pure Pursuit cycle.
 
@@ -289,12 +289,11 @@ def rpp_step(
         begin: index of the pose found closest last cycle (the search starts there).
         pose: the robot's map-frame pose ``(x, y, yaw)`` (m, m, rad).
         velocity: the robot's ``(linear, angular)`` speed (m/s, rad/s).
-        cells: the local costmap's ``uint8`` cells, ``[row, col]``.
-        grid: the local costmap's :data:`~baobab.nav.costmap.GRID` record.
+        costmap: the local costmap's cells, geometry and footprint outline.
         settings: an :data:`RPP_SETTINGS` record.
-        outline: ``(N, 2)`` polygon footprint in ``base_link`` (m); no rows for a circle.
     """
-    g, s = grid[0], settings[0]
+    cells, outline = costmap.cells, costmap.outline
+    g, s = costmap.grid[0], settings[0]
     x, y, yaw = pose
     extent = max(cells.shape[0], cells.shape[1]) * g.resolution / 2
     search_dist = s.max_robot_pose_search_dist
