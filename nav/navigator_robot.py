@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 
 from baobab.robots.catalog import MOBILE_ROBOTS, RobotInfo, default_mobile_robot
 from baobab.robots.footprint import Footprint
-from baobab.robots.robot_file import load_robot
+from baobab.robots.robot_file import UnknownRobotError, load_robot
 from baobab.sim.errors import BaobabError
 from baobab.sim.world import Pose2D, World
 
@@ -70,15 +70,11 @@ def navigator_robot(robot: str | Path | RobotInfo | None) -> RobotInfo:
         return default_mobile_robot()
     try:
         info = robot if isinstance(robot, RobotInfo) else load_robot(robot)
-    except NavigatorSetupError:
-        raise
-    except BaobabError as exc:
-        if isinstance(robot, str) and "unknown robot" in str(exc):
-            raise NavigatorSetupError(
-                f"unknown robot {robot!r}; a navigator drives one of: "
-                f"{', '.join(MOBILE_ROBOTS)}, or a robot file"
-            ) from None
-        raise
+    except UnknownRobotError:
+        raise NavigatorSetupError(
+            f"unknown robot {str(robot)!r}; a navigator drives one of: "
+            f"{', '.join(MOBILE_ROBOTS)}, or a robot file"
+        ) from None
     if not info.mobile:
         raise NavigatorSetupError(
             f"robot '{info.name}' does not drive; a navigator drives one of: "

@@ -73,6 +73,10 @@ class RobotFileError(SourceError):
     """A robot file that cannot be read or describes no robot baobab can build."""
 
 
+class UnknownRobotError(BaobabError, ValueError):
+    """A robot name that is neither a bundled robot's nor a robot file's path."""
+
+
 class _Strict(YamlModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -387,7 +391,7 @@ def load_robot(name_or_path: str | Path) -> RobotInfo:
     """A bundled robot by name (or alias), or a user's robot file by path.
 
     Raises:
-        BaobabError: an unknown name, listing the bundled ones.
+        UnknownRobotError: an unknown name, listing the bundled ones.
         RobotFileError: a robot file that cannot be used (located).
     """
     text = str(name_or_path)
@@ -395,5 +399,6 @@ def load_robot(name_or_path: str | Path) -> RobotInfo:
         return load_robot_file(name_or_path)
     robot = robot_named(text)
     if robot is None:
-        raise BaobabError(unknown_name("robot", text, ROBOTS) + " (or give a robot file's path)")
+        message = unknown_name("robot", text, ROBOTS)
+        raise UnknownRobotError(f"{message} (or give a robot file's path)")
     return robot

@@ -214,3 +214,21 @@ def test_each_mobile_robot_stands_drives_at_its_limit_and_scans_from_its_mount(n
         local_x = math.cos(pose.yaw) * (x - pose.x) + math.sin(pose.yaw) * (y - pose.y)
         local_y = -math.sin(pose.yaw) * (x - pose.x) + math.cos(pose.yaw) * (y - pose.y)
         assert facts.footprint.contains((local_x, local_y), tolerance=0.002), model.geom(geom).name
+
+
+def test_teleop_and_fault_monitor_settings_follow_the_facts() -> None:
+    from baobab.missions.run.fault_monitors import MonitorParams
+
+    burger = default_mobile_robot()
+    assert MonitorParams.for_robot(burger.tuning) == MonitorParams()
+    assert (MonitorParams().scan_timeout, MonitorParams().max_plausible_speed) == (1.0, 2.0)
+    tb4 = MonitorParams.for_robot(ROBOTS["turtlebot4"].tuning)
+    assert tb4.scan_timeout == pytest.approx(5 / 5.5)  # five of its lidar's periods
+    fast = dataclasses.replace(burger.mobile_facts, max_linear_speed=1.5, max_angular_speed=5.0)
+    assert MonitorParams.for_robot(tune(fast)).max_plausible_speed == pytest.approx(4.5)
+    slow = dataclasses.replace(burger.mobile_facts, max_linear_speed=0.15, max_angular_speed=1.0)
+    tuning = tune(slow)
+    assert tuning.teleop_speeds == (0.15, 1.0)
+    assert tuning.progress == (pytest.approx(0.375), 10.0)  # a quarter of 10 s at top speed
+    assert tuning.spin_speeds == (0.4, 1.0) and tuning.rotate_to_heading_speed == 1.0
+    assert tune(burger.mobile_facts).teleop_speeds == (0.22, 1.2)

@@ -37,7 +37,9 @@ LDS_01 = LidarFacts(
 
 BURGER = DiffDriveFacts(
     model_name="turtlebot3_burger",
-    footprint=Footprint.circle(0.105),  # [nav2] 0.1 m, rounded up to the wheels' outer edge
+    # The circle around base_link that holds the plate stack's rear corners (hypot(0.085,
+    # 0.060) = 0.104 m); [nav2] ROBOTIS configures 0.1 m.
+    footprint=Footprint.circle(0.105),
     # The collision envelope of the plate stack (the [urdf] box is 0.140 x 0.140 x 0.143).
     body=Body(shape="box", length=0.120, width=0.120, height=0.138, bottom=0.020, center_x=-0.025),
     wheel_radius=0.033,  # [node]
