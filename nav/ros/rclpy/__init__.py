@@ -142,7 +142,13 @@ def spin_once(
 
 
 def spin(node: Node, executor: Executor | None = None) -> None:
-    """Run the node's callbacks until the context shuts down (or the run ends)."""
+    """Run the node's callbacks until the context shuts down (or the run ends).
+
+    Raises:
+        UnsupportedRosFeatureError: outside a run, where nothing would ever wake it.
+    """
+    if not waiting.can_wait():
+        waiting.wait(None, None, what="rclpy.spin()")
     _executor_for(node, executor).spin()
 
 
