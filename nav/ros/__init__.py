@@ -62,12 +62,15 @@ ROS_MODULES: tuple[str, ...] = (
     "nav2_simple_commander",
     "nav2_simple_commander.robot_navigator",
     "robot_navigator",
+    "pynput",
+    "pynput.keyboard",
 )
 """The ROS module names the shims provide; ``name`` is served by ``baobab.nav.ros.<name>``."""
 
 RUNTIME_MODULES: tuple[str, ...] = (
     "actors",
     "arguments",
+    "bringup",
     "graph",
     "node_files",
     "parameters",

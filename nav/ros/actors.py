@@ -70,6 +70,8 @@ class Actor:
         self.interrupts = 0
         self.canceled = False
         self.thread: threading.Thread | None = None
+        self.rclpy_context: object = None
+        """The default rclpy context of a node file's actor (set by the runtime)."""
         self._go = threading.Semaphore(0)
 
     def runnable(self, now_ns: int) -> bool:

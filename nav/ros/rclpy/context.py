@@ -116,6 +116,10 @@ class Context:
         self._nodes = [reference for reference in self._nodes if reference() is not None]
         self._nodes.append(weakref.ref(node))
 
+    def node_names(self) -> list[str]:
+        """The names of the context's live nodes, in creation order."""
+        return [node.get_name() for ref in self._nodes if (node := ref()) is not None]
+
     def untrack_node(self, node: Node) -> None:
         """Forget ``node`` (it was destroyed on its own)."""
         self._nodes = [ref for ref in self._nodes if ref() is not None and ref() is not node]
