@@ -25,7 +25,10 @@ from baobab.nav.rosmsg import message_class, to_plain
         (lambda: Bool(data=1), "The 'data' field must be of type 'bool'"),
         (lambda: Int32(data=1.0), "The 'data' field must be of type 'int'"),
         (lambda: UInt8(data=256), "The 'data' field must be an integer in [0, 255]"),
-        (lambda: Int32(data=2**31), "The 'data' field must be an integer in [-2147483648, 2147483647]"),
+        (
+            lambda: Int32(data=2**31),
+            "The 'data' field must be an integer in [-2147483648, 2147483647]",
+        ),
         (
             lambda: PoseStamped(pose=Point()),
             "The 'pose' field must be a sub message of type 'Pose'",

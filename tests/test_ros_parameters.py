@@ -6,10 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from ros_harness import ROS_NODES, run_node_files, write_nodes
 
 from baobab.nav.ros.arguments import RosArgumentError, parse_ros_arguments
 from baobab.nav.ros.runtime import RosRuntime
-from ros_harness import ROS_NODES, run_node_files, write_nodes
 
 PUB_SUB = [ROS_NODES / "pub_node.py", ROS_NODES / "sub_node.py"]
 
@@ -48,7 +48,15 @@ def test_params_files_remaps_and_node_renames_apply(
         "/**:\n  ros__parameters:\n    timer_period: 0.5\n"
         "talker:\n  ros__parameters:\n    topic_name: from_file\n"
     )
-    args = ["--ros-args", "--params-file", str(params), "-r", "__node:=talker", "-r", "from_file:=/renamed"]
+    args = [
+        "--ros-args",
+        "--params-file",
+        str(params),
+        "-r",
+        "__node:=talker",
+        "-r",
+        "from_file:=/renamed",
+    ]
     listener = write_nodes(
         tmp_path,
         {
@@ -138,8 +146,22 @@ def test_descriptors_callbacks_and_types_decide_what_a_set_does(
 
 def test_ros_args_rules_are_read_as_rcl_reads_them() -> None:
     parsed = parse_ros_arguments(
-        ["prog", "--ros-args", "-p", "a:=1", "--param", "b:=[1, 2.5]", "-p", "c:=tmp",
-         "-r", "talker:chatter:=news", "--log-level", "debug", "--", "rest"]
+        [
+            "prog",
+            "--ros-args",
+            "-p",
+            "a:=1",
+            "--param",
+            "b:=[1, 2.5]",
+            "-p",
+            "c:=tmp",
+            "-r",
+            "talker:chatter:=news",
+            "--log-level",
+            "debug",
+            "--",
+            "rest",
+        ]
     )
     assert parsed.parameters == {"a": 1, "b": [1.0, 2.5], "c": "tmp"}
     assert [(rule.node, rule.source, rule.target) for rule in parsed.remaps] == [

@@ -6,9 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from ros_harness import run_node_files, write_nodes
 
 from baobab.nav.ros.runtime import RosRuntime
-from ros_harness import run_node_files, write_nodes
 
 TIMES = """\
 import time

@@ -328,7 +328,9 @@ def test_a_nav2_scripts_nodes_talk_among_themselves_outside_a_run() -> None:
         rclpy.init()
         teleop, listener = rclpy.create_node("teleop"), rclpy.create_node("listener")
         heard: list[float] = []
-        listener.create_subscription(twist_type, "cmd_vel_teleop", lambda m: heard.append(m.linear.x), 10)
+        listener.create_subscription(
+            twist_type, "cmd_vel_teleop", lambda m: heard.append(m.linear.x), 10
+        )
         publisher = teleop.create_publisher(twist_type, "/cmd_vel_teleop", 10)
         command = twist_type()
         command.linear.x = 0.2

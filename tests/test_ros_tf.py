@@ -7,7 +7,9 @@ import math
 from pathlib import Path
 
 import pytest
+from ros_harness import run_node_files, write_nodes
 
+from baobab.nav.ros.runtime import RosRuntime
 from baobab.nav.ros.tf_tree import (
     ConnectivityException,
     Edge,
@@ -15,8 +17,6 @@ from baobab.nav.ros.tf_tree import (
     LookupException,
     TransformTree,
 )
-from baobab.nav.ros.runtime import RosRuntime
-from ros_harness import run_node_files, write_nodes
 
 S = 1_000_000_000
 
@@ -44,7 +44,9 @@ def test_lookups_compose_interpolate_and_raise_tf_errors() -> None:
         tree.lookup("odom", "base_link", 4 * S)
     with pytest.raises(ExtrapolationException, match="into the past"):
         tree.lookup("odom", "base_link", S // 2)
-    with pytest.raises(LookupException, match='"world" passed to lookupTransform argument target_frame'):
+    with pytest.raises(
+        LookupException, match='"world" passed to lookupTransform argument target_frame'
+    ):
         tree.lookup("world", "base_link", 0)
     tree.set("camera", Edge(0, "table", (0.0, 0.0, 1.0), yaw(0.0)), static=True)
     with pytest.raises(ConnectivityException, match="not part of the same tree"):
@@ -103,7 +105,9 @@ def main():
 def test_a_lookup_waits_on_sim_time_and_a_late_listener_gets_static_transforms(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    paths = write_nodes(tmp_path, {"broadcaster.py": BROADCASTER, "late_listener.py": LATE_LISTENER})
+    paths = write_nodes(
+        tmp_path, {"broadcaster.py": BROADCASTER, "late_listener.py": LATE_LISTENER}
+    )
     end = run_node_files(RosRuntime(), paths, 3.0)
     assert end.failures == []
     assert capsys.readouterr().out.splitlines() == [

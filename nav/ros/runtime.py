@@ -168,7 +168,9 @@ class RosRuntime:
         """Run ``action()`` (in the loop, before node code) once sim time reaches ``time_s``."""
         heapq.heappush(self._events, (round(time_s * S_TO_NS), next(self._order), action))
 
-    def publish_at(self, time_s: float, topic: str, message: Any, qos: QoSProfile | None = None) -> None:
+    def publish_at(
+        self, time_s: float, topic: str, message: Any, qos: QoSProfile | None = None
+    ) -> None:
         """Publish ``message`` on ``topic`` once sim time reaches ``time_s`` (an injected
         message, as ``ros2 topic pub --once`` sends one)."""
         publisher = self.advertise(topic, type(message), qos or QoSProfile(depth=10))

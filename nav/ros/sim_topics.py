@@ -155,12 +155,21 @@ class MobileRobotTopics:
         runtime.add_source("/odom", Odometry, RELIABLE, ODOM_RATE, self._odometry)
         runtime.add_source("/tf", TFMessage, TF_QOS, ODOM_RATE, self._tf)
         runtime.add_source(
-            "/joint_states", JointState, RELIABLE, JOINT_STATE_RATE, _joint_states(robot.sim, robot.joints)
+            "/joint_states",
+            JointState,
+            RELIABLE,
+            JOINT_STATE_RATE,
+            _joint_states(robot.sim, robot.joints),
         )
         self._imu = _ImuReader(robot.sim, robot.body)
         runtime.add_source("/imu", Imu, qos_profile_sensor_data, IMU_RATE, self._imu.read)
         runtime.add_source(
-            "/scan", LaserScan, qos_profile_sensor_data, robot.scan_rate, self._scan, phase_ns=step_ns
+            "/scan",
+            LaserScan,
+            qos_profile_sensor_data,
+            robot.scan_rate,
+            self._scan,
+            phase_ns=step_ns,
         )
         publish_clock(runtime)
         latch = runtime.advertise("/tf_static", TFMessage, LATCHED)
@@ -190,9 +199,7 @@ class MobileRobotTopics:
                 )
             ),
             twist=TwistWithCovariance(
-                twist=Twist(
-                    linear=Vector3(x=float(linear)), angular=Vector3(z=float(angular))
-                )
+                twist=Twist(linear=Vector3(x=float(linear)), angular=Vector3(z=float(angular)))
             ),
         )
 
@@ -245,22 +252,26 @@ class _ImuReader:
         model, data = self._sim.model, self._sim.data
         w, x, y, z = self._body.xquat.tolist()
         rotation = self._body.xmat.reshape(3, 3)
-        mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_BODY, self._body_id, self._velocity, 1)
+        mujoco.mj_objectVelocity(
+            model, data, mujoco.mjtObj.mjOBJ_BODY, self._body_id, self._velocity, 1
+        )
         angular = self._velocity[:3].tolist()
-        mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_BODY, self._body_id, self._velocity, 0)
+        mujoco.mj_objectVelocity(
+            model, data, mujoco.mjtObj.mjOBJ_BODY, self._body_id, self._velocity, 0
+        )
         linear_world = self._velocity[3:].copy()
         acceleration = np.zeros(3)
         if self._previous is not None and now > self._previous[0]:
-            acceleration = (linear_world - self._previous[1]) / ((now - self._previous[0]) / S_TO_NS)
+            acceleration = (linear_world - self._previous[1]) / (
+                (now - self._previous[0]) / S_TO_NS
+            )
         self._previous = (now, linear_world)
         force = rotation.T @ (acceleration - model.opt.gravity)
         return Imu(
             header=Header(stamp=stamp(now), frame_id="imu_link"),
             orientation=Quaternion(x=x, y=y, z=z, w=w),
             angular_velocity=Vector3(x=angular[0], y=angular[1], z=angular[2]),
-            linear_acceleration=Vector3(
-                x=float(force[0]), y=float(force[1]), z=float(force[2])
-            ),
+            linear_acceleration=Vector3(x=float(force[0]), y=float(force[1]), z=float(force[2])),
         )
 
 

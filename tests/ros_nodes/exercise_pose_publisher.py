@@ -12,7 +12,9 @@ class ExercisePosePublisher(Node):
         self.declare_parameter("goal", [5.0, 0.45, 0.2, 0.35, 1.0, 0.0, 0.0, 0.0])
         goal = np.array(self.get_parameter("goal").value)
         if goal.size != 8:
-            raise ValueError(f"'goal' must have 8 values [T, x, y, z, qx, qy, qz, qw], got {goal.size}")
+            raise ValueError(
+                f"'goal' must have 8 values [T, x, y, z, qx, qy, qz, qw], got {goal.size}"
+            )
         self.T = float(goal[0])
         if self.T <= 0.0:
             raise ValueError(f"the duration T must be > 0, got {self.T}")
