@@ -157,7 +157,7 @@ def test_the_robot_publishes_ros_topics_at_their_rates(
     assert stamps == "[0, 200000000, 400000000] [35000000, 70000000, 100000000]"
     assert scan == "360 0.0175 base_scan 1.18"  # wall_east is 1.15 m ahead of base_link
     assert imu == "9.81 ['wheel_left_joint', 'wheel_right_joint']"
-    assert chain == "-0.032 0.0 0.172"
+    assert chain == "-0.032 0.0 0.182"  # base_link is 1 cm above base_footprint
 
 
 PLANNER = ROS_NODES / "exercise_pose_publisher.py"

@@ -6,7 +6,8 @@ heading controller and slows down while misaligned, until the goal is within
 
 Run it without ROS:
     baobab ros run examples/ros/point2point_nav.py --world walls --robot turtlebot3 \\
-        --pub /goal geometry_msgs/msg/PoseStamped "{header: {frame_id: odom}, pose: {position: {x: 1.5}}}" --at 1
+        --pub /goal geometry_msgs/msg/PoseStamped \\
+        "{header: {frame_id: odom}, pose: {position: {x: 2.0, y: 2.0}}}" --at 1
 """
 
 import math
