@@ -181,11 +181,11 @@ def build_simulated_arm(robot: str, seed: int) -> SimulatedArm:
         return position, quaternion
 
     base = server.base_position.tolist()
-    base_quaternion = server.base_rotation.as_quat().tolist()
+    qx, qy, qz, qw = server.base_rotation.as_quat().tolist()
     return SimulatedArm(
         sim=sim,
         base_frame="panda_link0",
-        base_in_world=((base[0], base[1], base[2]), tuple(base_quaternion)),  # type: ignore[arg-type]
+        base_in_world=((base[0], base[1], base[2]), (qx, qy, qz, qw)),
         tcp_pose=tcp_pose,
         reference_pose=lambda: controller.reference,
         set_target=lambda position, quaternion: controller.set_target(

@@ -164,7 +164,7 @@ def _sequence_check(item_kind: str, size: int | None) -> tuple[Check, Callable[[
 
         return check_fixed, lambda: np.zeros(size, dtype=dtype)
     if numeric is not None:
-        code = _FLOATS[item_kind][1] if item_kind in _FLOATS else numeric[2]
+        code: str = _FLOATS[item_kind][1] if item_kind in _FLOATS else _INTEGERS[item_kind][2]
 
         def check_array(name: str, value: Any) -> array[Any]:
             if isinstance(value, array):
@@ -205,6 +205,10 @@ def field_check(kind: str) -> tuple[Check, Callable[[], Any]]:
     raise TypeError(f"unsupported field type {kind!r}")
 
 
+def _constant(value: Any) -> Callable[[], Any]:
+    return lambda: value
+
+
 def _field_property(name: str, check: Check) -> property:
     slot = f"_{name}"
 
@@ -232,8 +236,7 @@ class MessageMeta(type):
             check, default = field_check(kind)
             setattr(cls, field, _field_property(field, check))
             if field in defaults:
-                value = defaults[field]
-                factories[field] = lambda value=value: value
+                factories[field] = _constant(defaults[field])
             else:
                 factories[field] = default
         cls._factories = factories  # type: ignore[attr-defined]

@@ -11,6 +11,8 @@ wait forever raises :class:`~baobab.nav.ros.UnsupportedRosFeatureError`.
 
 from __future__ import annotations
 
+from typing import Any
+
 from baobab.nav.ros import waiting
 from baobab.nav.ros.rclpy import (
     callback_groups,
@@ -104,7 +106,7 @@ def create_node(
     *,
     context: Context | None = None,
     namespace: str | None = None,
-    **options: object,
+    **options: Any,
 ) -> Node:
     """A new :class:`~baobab.nav.ros.rclpy.node.Node`, as ``rclpy.create_node`` makes one."""
     return Node(node_name, context=context, namespace=namespace, **options)
