@@ -288,12 +288,31 @@ class Message(metaclass=MessageMeta):
 
     __hash__ = None  # type: ignore[assignment]
 
+    def __deepcopy__(self, memo: dict[int, Any]) -> Message:
+        """A copy sharing nothing mutable with this message (fields are already checked)."""
+        new = object.__new__(type(self))
+        for field in self._factories:
+            object.__setattr__(new, f"_{field}", _copied(getattr(self, field)))
+        return new
+
     def __getstate__(self) -> dict[str, Any]:
         return {field: getattr(self, field) for field in self._factories}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         for field, value in state.items():
             object.__setattr__(self, f"_{field}", value)
+
+
+def _copied(value: Any) -> Any:
+    if isinstance(value, Message):
+        return value.__deepcopy__({})
+    if isinstance(value, list):
+        return [_copied(item) for item in value]
+    if isinstance(value, array):
+        return array(value.typecode, value)
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    return value
 
 
 def message_class(type_name: str) -> type[Message]:
