@@ -315,6 +315,58 @@ def _copied(value: Any) -> Any:
     return value
 
 
+class MessageFieldError(ValueError):
+    """Values that do not fit a message (:func:`fill_message`): says which field and why."""
+
+
+def fill_message(message: Message, values: Any, path: str = "") -> Message:
+    """Set ``message``'s fields from plain values (a YAML mapping), as ``ros2 topic pub`` does:
+    nested mappings fill nested messages, and a number fills a float field (``x: 1``).
+
+    Raises:
+        MessageFieldError: an unknown field, or a value its field does not take.
+    """
+    if values is None:
+        return message
+    if not isinstance(values, dict):
+        raise MessageFieldError(f"{path or 'the message'}: expected a mapping of field values")
+    fields = message.get_fields_and_field_types()
+    for name, value in values.items():
+        where = f"{path}.{name}" if path else str(name)
+        if name not in fields:
+            known = ", ".join(fields) or "none"
+            raise MessageFieldError(
+                f"{where}: {type(message).__name__} has no such field (fields: {known})"
+            )
+        kind = fields[name]
+        current = getattr(message, name)
+        try:
+            if isinstance(current, Message):
+                fill_message(current, value, where)
+                continue
+            if (
+                kind in ("double", "float")
+                and isinstance(value, int)
+                and not isinstance(value, bool)
+            ):
+                value = float(value)
+            elif kind.startswith("sequence<") and "/" in kind and isinstance(value, list):
+                item_class = message_class(kind[len("sequence<") : -1].partition(",")[0])
+                value = [
+                    fill_message(item_class(), item, f"{where}[{i}]")
+                    for i, item in enumerate(value)
+                ]
+            elif isinstance(value, list) and any(word in kind for word in ("double", "float")):
+                value = [
+                    float(item) if isinstance(item, int) and not isinstance(item, bool) else item
+                    for item in value
+                ]
+            setattr(message, name, value)
+        except AssertionError as exc:
+            raise MessageFieldError(f"{where}: {exc}") from None
+    return message
+
+
 def message_class(type_name: str) -> type[Message]:
     """The message class of ``"pkg/msg/Name"`` or ``"pkg/Name"``.
 

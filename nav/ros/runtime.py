@@ -55,10 +55,11 @@ class SimSource:
 
 @dataclass(frozen=True)
 class NodeFailure:
-    """An actor whose code raised: which, and the exception."""
+    """An actor whose code raised: which, the exception, and the nodes its code had made."""
 
     actor: Actor
     error: BaseException
+    node_names: tuple[str, ...] = ()
 
 
 @dataclass
@@ -275,7 +276,7 @@ class RosRuntime:
                 failed = self.scheduler.run_ready()
                 if failed is not None:
                     assert failed.error is not None
-                    failures.append(NodeFailure(failed, failed.error))
+                    failures.append(self._failure(failed, failed.error))
                     break
                 if now >= end or not self.scheduler.live:
                     break
@@ -283,7 +284,7 @@ class RosRuntime:
         finally:
             self.scheduler.end_all()
             failures.extend(
-                NodeFailure(actor, actor.error)
+                self._failure(actor, actor.error)
                 for actor in self.scheduler.actors
                 if actor.error is not None
                 and not isinstance(actor.error, KeyboardInterrupt)
@@ -291,6 +292,9 @@ class RosRuntime:
             )
             self._shut_down_contexts()
         return RunEnd(self.now_ns() / S_TO_NS, failures)
+
+    def _failure(self, actor: Actor, error: BaseException) -> NodeFailure:
+        return NodeFailure(actor, error, tuple(self.node_names(actor)))
 
     def _shut_down_contexts(self) -> None:
         """Destroy what node code left: the nodes of each node file's context."""
