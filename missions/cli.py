@@ -22,6 +22,7 @@ if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
 os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 import argparse
+import re
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -41,6 +42,7 @@ if TYPE_CHECKING:
 # catalogue) inside that command's handler.
 
 EXIT_OK, EXIT_NOT_INTENDED, EXIT_INVALID, EXIT_INTERRUPTED = 0, 1, 2, 130
+_LAUNCH_ARGUMENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*:=")
 Handler = Callable[[argparse.Namespace], int]
 
 
@@ -60,16 +62,21 @@ def main(argv: Sequence[str] | None = None) -> int:
                 file=sys.stderr,
             )
             return EXIT_INVALID
-    # `baobab ros run NODE.py -- --ros-args ...`: what follows a lone `--` is the nodes'.
+    # `baobab ros run NODE.py -- --ros-args ...`: what follows a lone `--` is the nodes';
+    # `baobab ros launch FILE name:=value` takes its arguments anywhere, as `ros2 launch`.
     passthrough: list[str] = []
-    if command == "ros" and "--" in arguments:
-        at = arguments.index("--")
-        arguments, passthrough = arguments[:at], arguments[at + 1 :]
+    launch_arguments: list[str] = []
+    if command == "ros":
+        if "--" in arguments:
+            at = arguments.index("--")
+            arguments, passthrough = arguments[:at], arguments[at + 1 :]
+        launch_arguments = [word for word in arguments if _LAUNCH_ARGUMENT.match(word)]
+        arguments = [word for word in arguments if not _LAUNCH_ARGUMENT.match(word)]
     try:
         args = parser.parse_args(arguments)
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
         return int(exit_.code or 0)
-    args.passthrough = passthrough
+    args.passthrough, args.launch_arguments = passthrough, launch_arguments
     handler: Handler = args.handler
     signals_for(args.command)
     try:

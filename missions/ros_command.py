@@ -97,9 +97,10 @@ def configure_ros(parser: argparse.ArgumentParser) -> None:
     run = commands.add_parser("run", help="run node files", description=__doc__)
     run.add_argument("nodes", nargs="+", metavar="NODE.py", help="node files, then -- --ros-args")
     _common(run)
-    launch = commands.add_parser("launch", help="run a Python launch file")
+    launch = commands.add_parser(
+        "launch", help="run a Python launch file", usage="%(prog)s FILE.launch.py [name:=value ...]"
+    )
     launch.add_argument("launch_file", metavar="FILE.launch.py")
-    launch.add_argument("arguments", nargs="*", metavar="name:=value", help="launch arguments")
     launch.add_argument("--show-args", action="store_true", help="list the launch arguments")
     _common(launch)
 
@@ -115,7 +116,7 @@ def ros_command(args: argparse.Namespace) -> int:
             return EXIT_OK
         specs = [
             NodeSpec(node.path, [*node.argv, *getattr(args, "passthrough", [])])
-            for node in nodes_of_launch_file(path, _launch_arguments(args.arguments))
+            for node in nodes_of_launch_file(path, _launch_arguments(args.launch_arguments))
         ]
         return run_nodes(args, specs)
     passthrough = list(getattr(args, "passthrough", []))

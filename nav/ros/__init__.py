@@ -64,6 +64,15 @@ ROS_MODULES: tuple[str, ...] = (
     "robot_navigator",
     "pynput",
     "pynput.keyboard",
+    "launch",
+    "launch.actions",
+    "launch.substitutions",
+    "launch.launch_description_sources",
+    "launch_ros",
+    "launch_ros.actions",
+    "launch_ros.parameter_descriptions",
+    "ament_index_python",
+    "ament_index_python.packages",
 )
 """The ROS module names the shims provide; ``name`` is served by ``baobab.nav.ros.<name>``."""
 
@@ -72,6 +81,7 @@ RUNTIME_MODULES: tuple[str, ...] = (
     "arguments",
     "bringup",
     "graph",
+    "launch_files",
     "node_files",
     "parameters",
     "qos",
