@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from baobab.behaviours.ports import ARM, BASE_CONTROLLERS, NAVIGATION, TELEOP
+from baobab.behaviours.ports import ARM, BASE_CONTROLLERS, NAVIGATION, ROS_NODES, TELEOP
 
 
 @dataclass(frozen=True)
@@ -87,7 +87,7 @@ ROBOTS: dict[str, RobotInfo] = {
     "turtlebot3": RobotInfo(
         name="turtlebot3",
         description="TurtleBot3 Burger: differential drive with a 360-beam 2D lidar",
-        capabilities=frozenset({NAVIGATION, BASE_CONTROLLERS, TELEOP}),
+        capabilities=frozenset({NAVIGATION, BASE_CONTROLLERS, TELEOP, ROS_NODES}),
         mobile=True,
         footprint_radius=0.105,
         max_linear_speed=0.22,
@@ -97,7 +97,7 @@ ROBOTS: dict[str, RobotInfo] = {
     "panda": RobotInfo(
         name="panda",
         description="Franka Panda arm with a parallel gripper, Cartesian impedance control",
-        capabilities=frozenset({ARM}),
+        capabilities=frozenset({ARM, ROS_NODES}),
         mobile=False,
         scenes=("panda_table",),
         scene_objects=("cube",),

@@ -55,7 +55,7 @@ class _Timed(argparse.Action):
 
 class _At(argparse.Action):
     def __call__(self, parser: Any, namespace: Any, values: Any, option: str | None = None) -> None:
-        events = getattr(namespace, "events", None)
+        events: list[dict[str, Any]] = getattr(namespace, "events", None) or []
         if not events:
             parser.error("--at must follow a --pub, --press or --release")
         try:

@@ -5,9 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from ros_harness import BUNDLED_NODES, ROS_NODES
 
 from baobab.missions.cli import main
-from ros_harness import EXAMPLES, ROS_NODES
 
 PUB, SUB = str(ROS_NODES / "pub_node.py"), str(ROS_NODES / "sub_node.py")
 LAUNCH = ROS_NODES / "launch"
@@ -32,18 +32,22 @@ def test_ros_run_runs_node_files_with_their_ros_args(capsys: pytest.CaptureFixtu
 def test_a_goal_sent_with_pub_drives_the_point_to_point_node_and_echo_prints_topics(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
-    node = str(EXAMPLES / "point2point_nav.py")
+    node = str(BUNDLED_NODES / "point2point_nav.py")
     args = ["ros", "run", node, "--world", "walls", "--robot", "turtlebot3", "--duration", "18"]
     args += ["--pub", "/goal", "geometry_msgs/msg/PoseStamped", GOAL, "--at", "1", "--echo", "goal"]
     assert main(args) == 0
     out, err = capsys.readouterr()
-    assert out.startswith("header:\n  stamp:\n    sec: 0\n    nanosec: 0\n  frame_id: odom\npose:\n")
+    assert out.startswith(
+        "header:\n  stamp:\n    sec: 0\n    nanosec: 0\n  frame_id: odom\npose:\n"
+    )
     assert out.endswith("---\n") and out.count("---\n") == 1
     assert "[INFO] [1.000000000] [point2point_nav]: New goal: (2.00, 2.00)" in err
     assert "[point2point_nav]: Goal reached" in err
 
 
-def test_keys_pressed_at_sim_times_reach_a_pynput_listener(capsys: pytest.CaptureFixture[str]) -> None:
+def test_keys_pressed_at_sim_times_reach_a_pynput_listener(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
     node = str(ROS_NODES / "keyboard_teleop.py")
     args = ["ros", "run", node, "--duration", "2", "--press", "w", "--at", "0.5"]
     args += ["--release", "w", "--at", "1.0", "--echo", "/cmd_vel"]
@@ -111,7 +115,9 @@ def test_ros_launch_passes_launch_arguments_to_node_parameters(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
     launch = str(LAUNCH / "pub_sub.launch.py")
-    code = main(["ros", "launch", launch, "timer_period:=0.5", "topic_name:=tmp", "--duration", "1"])
+    code = main(
+        ["ros", "launch", launch, "timer_period:=0.5", "topic_name:=tmp", "--duration", "1"]
+    )
     assert code == 0
     err = capsys.readouterr().err.splitlines()
     assert err[:2] == [
@@ -192,6 +198,8 @@ def test_record_writes_the_runs_messages_to_mcap(tmp_path: Path) -> None:
     with target.open("rb") as stream:
         reader = make_reader(stream)
         topics = {channel.topic for channel in reader.get_summary().channels.values()}
-        messages = [(channel.topic, message.log_time) for _, channel, message in reader.iter_messages()]
+        messages = [
+            (channel.topic, message.log_time) for _, channel, message in reader.iter_messages()
+        ]
     assert topics == {"/chatter"}
     assert messages == [("/chatter", 1_000_000_000), ("/chatter", 2_000_000_000)]

@@ -82,6 +82,7 @@ RUNTIME_MODULES: tuple[str, ...] = (
     "bringup",
     "graph",
     "launch_files",
+    "mission_nodes",
     "node_files",
     "parameters",
     "qos",
@@ -98,6 +99,13 @@ _ROS_PACKAGES = frozenset(name.partition(".")[0] for name in ROS_MODULES)
 class UnsupportedRosFeatureError(BaobabError):
     """A script used a part of ROS that baobab does not model (services, actions), or waited
     on sim time where nothing advances it."""
+
+
+def load_message_types() -> None:
+    """Import every message module, so :func:`baobab.nav.rosmsg.message_class` knows them all."""
+    for name in ROS_MODULES:
+        if name.endswith(".msg"):
+            importlib.import_module(f"{__name__}.{name}")
 
 
 def _owned_by_ros_packages(module_name: str) -> bool:
