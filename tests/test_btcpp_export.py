@@ -109,7 +109,10 @@ tree:
     - parallel:
         policy: success_on_one
         children:
-          - ros_node: {script: node.py, params: {rate: 2.0, frame: odom, gains: [1.0, 2.5]}, node_name: talker}
+          - ros_node:
+              script: node.py
+              params: {rate: 2.0, frame: odom, gains: [1.0, 2.5]}
+              node_name: talker
           - wait: 0.01
 timeout: 100
 """
