@@ -22,7 +22,6 @@ if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
 os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 import argparse
-import re
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -42,7 +41,6 @@ if TYPE_CHECKING:
 # catalogue) inside that command's handler.
 
 EXIT_OK, EXIT_NOT_INTENDED, EXIT_INVALID, EXIT_INTERRUPTED = 0, 1, 2, 130
-_LAUNCH_ARGUMENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*:=")
 Handler = Callable[[argparse.Namespace], int]
 
 
@@ -62,21 +60,16 @@ def main(argv: Sequence[str] | None = None) -> int:
                 file=sys.stderr,
             )
             return EXIT_INVALID
-    # `baobab ros run NODE.py -- --ros-args ...`: what follows a lone `--` is the nodes';
-    # `baobab ros launch FILE name:=value` takes its arguments anywhere, as `ros2 launch`.
-    passthrough: list[str] = []
-    launch_arguments: list[str] = []
-    if command == "ros":
-        if "--" in arguments:
-            at = arguments.index("--")
-            arguments, passthrough = arguments[:at], arguments[at + 1 :]
-        launch_arguments = [word for word in arguments if _LAUNCH_ARGUMENT.match(word)]
-        arguments = [word for word in arguments if not _LAUNCH_ARGUMENT.match(word)]
+    extras: dict[str, list[str]] = {}
+    if command == "ros":  # `-- --ros-args ...` and `name:=value` words are not argparse's
+        from baobab.missions.ros_command import split_arguments
+
+        arguments, extras = split_arguments(arguments)
     try:
         args = parser.parse_args(arguments)
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
         return int(exit_.code or 0)
-    args.passthrough, args.launch_arguments = passthrough, launch_arguments
+    vars(args).update(extras)
     handler: Handler = args.handler
     signals_for(args.command)
     try:

@@ -20,6 +20,7 @@ its nodes; 2 for a mistake in the command (one line, located where it can be).
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -30,6 +31,26 @@ from baobab.sim.errors import BaobabError, clip
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
 DEFAULT_DURATION = 60.0
 """Seconds of sim time a run lasts without ``--duration``."""
+
+
+_LAUNCH_ARGUMENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*:=")
+
+
+def split_arguments(arguments: list[str]) -> tuple[list[str], dict[str, list[str]]]:
+    """Take what argparse must not see out of a ``baobab ros`` command line: the words after a
+    lone ``--`` (the nodes' ``--ros-args``) and ``name:=value`` launch arguments, which
+    ``ros2 launch`` takes anywhere.
+
+    Returns:
+        The words for argparse, and ``passthrough`` and ``launch_arguments`` for the handler.
+    """
+    passthrough: list[str] = []
+    if "--" in arguments:
+        at = arguments.index("--")
+        arguments, passthrough = arguments[:at], arguments[at + 1 :]
+    launch = [word for word in arguments if _LAUNCH_ARGUMENT.match(word)]
+    rest = [word for word in arguments if not _LAUNCH_ARGUMENT.match(word)]
+    return rest, {"passthrough": passthrough, "launch_arguments": launch}
 
 
 class RosCommandError(BaobabError):
