@@ -65,6 +65,30 @@ class NodeSpec:
     argv: list[str] = field(default_factory=list)
 
 
+RUN_HELP = """\
+Run rclpy node files unmodified against the simulation, on sim time, in one process: each
+file's main() (or its __main__ block). The robot is on ROS's topics (/cmd_vel, /odom, /tf,
+/scan, ...; the Panda's /cartesian_impedance/*).
+
+examples:
+  baobab ros run pub_node.py sub_node.py -- --ros-args -p timer_period:=0.5
+  baobab ros run point2point_nav.py --world walls --pub /goal geometry_msgs/msg/PoseStamped \\
+      "{header: {frame_id: odom}, pose: {position: {x: 2.0, y: 2.0}}}" --at 1 --echo /cmd_vel
+  baobab ros run keyboard_teleop.py --press w --at 1 --release w --at 3
+
+exit status: 0 when the run lasted --duration, 1 when node code raised (its traceback), 2
+for a mistake in the command."""
+
+LAUNCH_HELP = """\
+Run a Python launch file (LaunchDescription, DeclareLaunchArgument, LaunchConfiguration,
+IncludeLaunchDescription of a local file, LogInfo, launch_ros Node) against the simulation.
+
+example:
+  baobab ros launch exercise_pose_publisher.launch.py --robot panda \\
+      goal:="[3.0, 0.6, 0.2, 0.3, 1.0, 0.0, 0.0, 0.0]"
+"""
+
+
 class _Timed(argparse.Action):
     """``--pub``, ``--press`` and ``--release``: kept in order, each with the ``--at`` after it."""
 
@@ -115,11 +139,20 @@ def _common(parser: argparse.ArgumentParser) -> None:
 def configure_ros(parser: argparse.ArgumentParser) -> None:
     """Declare ``baobab ros run`` and ``baobab ros launch``."""
     commands = parser.add_subparsers(dest="ros_command", required=True, metavar="{run,launch}")
-    run = commands.add_parser("run", help="run node files", description=__doc__)
+    run = commands.add_parser(
+        "run",
+        help="run node files",
+        description=RUN_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     run.add_argument("nodes", nargs="+", metavar="NODE.py", help="node files, then -- --ros-args")
     _common(run)
     launch = commands.add_parser(
-        "launch", help="run a Python launch file", usage="%(prog)s FILE.launch.py [name:=value ...]"
+        "launch",
+        help="run a Python launch file",
+        usage="%(prog)s FILE.launch.py [name:=value ...] [options]",
+        description=LAUNCH_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     launch.add_argument("launch_file", metavar="FILE.launch.py")
     launch.add_argument("--show-args", action="store_true", help="list the launch arguments")

@@ -135,7 +135,8 @@ class Scheduler:
         self, actor: Actor, context: contextvars.Context, target: Callable[[], object]
     ) -> None:
         actor._go.acquire()
-        self._by_thread[threading.get_ident()] = actor
+        ident = threading.get_ident()
+        self._by_thread[ident] = actor
         try:
             if not actor.canceled:
                 actor.state = ActorState.RUNNING
@@ -147,6 +148,7 @@ class Scheduler:
             actor.error = exc
         finally:
             actor.state = ActorState.DONE
+            del self._by_thread[ident]  # the system may give the identifier to a new thread
             self._back.release()
 
     def current(self) -> Actor | None:
