@@ -203,3 +203,48 @@ def test_record_writes_the_runs_messages_to_mcap(tmp_path: Path) -> None:
         ]
     assert topics == {"/chatter"}
     assert messages == [("/chatter", 1_000_000_000), ("/chatter", 2_000_000_000)]
+
+
+OUTER = """\
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, IncludeLaunchDescription, LogInfo
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        DeclareLaunchArgument('period', default_value='0.5'),
+        LogInfo(msg=['period is ', LaunchConfiguration('period')]),
+        IncludeLaunchDescription(
+            PythonLaunchDescriptionSource('{pub_sub}'),
+            launch_arguments={{'timer_period': LaunchConfiguration('period')}}.items(),
+        ),
+        Node(executable='pub_node', name='second_publisher', parameters=['{params}'],
+             remappings=[('tmp', 'renamed')]),
+    ])
+"""
+
+
+def test_a_launch_file_includes_another_and_passes_params_files_and_remappings(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "pub_node.py").write_text((ROS_NODES / "pub_node.py").read_text())
+    params = tmp_path / "params.yaml"
+    params.write_text(
+        "second_publisher:\n  ros__parameters:\n    timer_period: 0.75\n    topic_name: tmp\n"
+    )
+    outer = tmp_path / "outer.launch.py"
+    outer.write_text(OUTER.format(pub_sub=LAUNCH / "pub_sub.launch.py", params=params))
+    assert (
+        main(
+            ["ros", "launch", str(outer), "period:=0.25", "--duration", "0.8", "--echo", "renamed"]
+        )
+        == 0
+    )
+    out, err = capsys.readouterr()
+    assert out.splitlines()[0] == "[INFO] [launch.user]: period is 0.25"
+    assert out.count("data: 'Counter: 0'") == 1  # the second publisher's, on /renamed at 0.75 s
+    assert '[INFO] [0.250000000] [minimal_subscriber]: I heard: "Counter: 0"' in err
+    assert '[INFO] [0.750000000] [second_publisher]: Publishing: "Counter: 0"' in err
