@@ -32,13 +32,13 @@ from typing import Any, Literal
 import numpy as np
 
 from baobab.missions.language.loader import Mission
-from baobab.missions.language.params import ParamSpec
 from baobab.missions.language.models import (
     EVENT_KINDS,
     ObstacleMove,
     ObstacleSpawn,
     TeleopCommand,
 )
+from baobab.missions.language.params import ParamSpec
 from baobab.sim.errors import BaobabError, clip, unknown_name
 from baobab.sim.yaml_source import KeyPath
 
