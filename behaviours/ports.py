@@ -15,15 +15,27 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Protocol
 
+from baobab.robots.catalog import ARM, BASE_CONTROLLERS, NAVIGATION, ROS_NODES, TELEOP
 from baobab.sim.errors import BaobabError
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D
 
-NAVIGATION = "navigation"
-BASE_CONTROLLERS = "base_controllers"
-ARM = "arm"
-TELEOP = "teleop"
-ROS_NODES = "ros_nodes"
+__all__ = [
+    "ARM",
+    "BASE_CONTROLLERS",
+    "NAVIGATION",
+    "PORT_CAPABILITIES",
+    "ROS_NODES",
+    "TELEOP",
+    "ArmPort",
+    "BaseControllerPort",
+    "Capabilities",
+    "CapabilityError",
+    "Clock",
+    "NavigationPort",
+    "RosNodesPort",
+]
+
 PORT_CAPABILITIES = (NAVIGATION, BASE_CONTROLLERS, ARM, ROS_NODES)
 """Capabilities that behaviour-tree leaves use through a port (teleop is driven by events)."""
 

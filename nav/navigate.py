@@ -114,11 +114,26 @@ def navigation_tree(
     through_poses: bool,
 ) -> Behaviour:
     """Nav2's ``navigate_{to,through}_pose(s)_w_replanning_and_recovery`` tree."""
-    clock = context.clock
+    pipeline = _replanning_pipeline(context, services, follower, params, through_poses)
+    recovery = _recovery(context, services, behaviors, params)
+    return RecoveryNode("NavigateRecovery", params.number_of_retries, [pipeline, recovery])
 
-    def clear(name: str, which: str) -> Behaviour:
-        return ClearEntireCostmap(name, context, services, which)
 
+def _clear(
+    context: NavigationContext, services: PlanningServices, name: str, which: str
+) -> Behaviour:
+    return ClearEntireCostmap(name, context, services, which)
+
+
+def _replanning_pipeline(
+    context: NavigationContext,
+    services: PlanningServices,
+    follower: PathFollower,
+    params: NavigatorParams,
+    through_poses: bool,
+) -> Behaviour:
+    """``NavigateWithReplanning``: plan at the replanning rate, follow the path; each with its
+    contextual costmap clearing."""
     planner_helps = Condition("WouldAPlannerRecoveryHelp", context.planner_recovery_helps)
     controller_helps = Condition("WouldAControllerRecoveryHelp", context.controller_recovery_helps)
     plan: Behaviour
@@ -134,47 +149,47 @@ def navigation_tree(
     else:
         plan = ComputePathToPose(context, services)
         hz = params.replanning_hz
+    clear_global = _clear(context, services, "ClearGlobalCostmap-Context", "global")
     planning = RecoveryNode(
         "ComputePathToPose",
         1,
-        [
-            plan,
-            sequence(
-                "ClearGlobalContext", [planner_helps, clear("ClearGlobalCostmap-Context", "global")]
-            ),
-        ],
+        [plan, sequence("ClearGlobalContext", [planner_helps, clear_global])],
     )
+    clear_local = _clear(context, services, "ClearLocalCostmap-Context", "local")
     following = RecoveryNode(
         "FollowPath",
         1,
         [
             FollowPath(context, follower),
-            sequence(
-                "ClearLocalContext",
-                [controller_helps, clear("ClearLocalCostmap-Context", "local")],
-            ),
+            sequence("ClearLocalContext", [controller_helps, clear_local]),
         ],
     )
-    pipeline = PipelineSequence(
-        "NavigateWithReplanning",
-        [
-            RateController(
-                "RateController", planning, hz, clock, tick_now=context.goal_changed_since_plan
-            ),
-            following,
-        ],
+    rate = RateController(
+        "RateController", planning, hz, context.clock, tick_now=context.goal_changed_since_plan
     )
+    return PipelineSequence("NavigateWithReplanning", [rate, following])
+
+
+def _recovery(
+    context: NavigationContext,
+    services: PlanningServices,
+    behaviors: BehaviorContext,
+    params: NavigatorParams,
+) -> Behaviour:
+    """``Recovery``: while a recovery would help and the goal is unchanged, the next of clear
+    costmaps, spin, wait and back up in turn."""
     p = params
+    clearing = sequence(
+        "ClearingActions",
+        [
+            _clear(context, services, "ClearLocalCostmap-Subtree", "local"),
+            _clear(context, services, "ClearGlobalCostmap-Subtree", "global"),
+        ],
+    )
     actions = RoundRobin(
         "RecoveryActions",
         [
-            sequence(
-                "ClearingActions",
-                [
-                    clear("ClearLocalCostmap-Subtree", "local"),
-                    clear("ClearGlobalCostmap-Subtree", "global"),
-                ],
-            ),
+            clearing,
             BehaviorLeaf(
                 "Spin",
                 context,
@@ -190,20 +205,17 @@ def navigation_tree(
             ),
         ],
     )
-    recovery = sequence(
-        "Recovery",
+    would_help = ReactiveFallback(
+        "RecoveryWouldHelp",
         [
-            ReactiveFallback(
-                "RecoveryWouldHelp",
-                [
-                    Condition("WouldAControllerRecoveryHelp", context.controller_recovery_helps),
-                    Condition("WouldAPlannerRecoveryHelp", context.planner_recovery_helps),
-                ],
-            ),
-            ReactiveFallback("RecoveryFallback", [GoalUpdated(context), actions]),
+            Condition("WouldAControllerRecoveryHelp", context.controller_recovery_helps),
+            Condition("WouldAPlannerRecoveryHelp", context.planner_recovery_helps),
         ],
     )
-    return RecoveryNode("NavigateRecovery", params.number_of_retries, [pipeline, recovery])
+    return sequence(
+        "Recovery",
+        [would_help, ReactiveFallback("RecoveryFallback", [GoalUpdated(context), actions])],
+    )
 
 
 class NavigateTask:

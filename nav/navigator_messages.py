@@ -3,7 +3,8 @@
 Goals arrive as ``PoseStamped`` in the ``map`` frame (an empty ``frame_id`` is taken as
 ``map``: the simulation localises perfectly, so map is the only frame a goal can be given in).
 Paths go both ways between ``nav_msgs/Path`` and :class:`baobab.nav.path.Path`; costmaps leave
-as ``nav2_msgs/Costmap`` (what Nav2's ``getGlobalCostmap`` returns).
+as ``nav2_msgs/Costmap`` (what Nav2's ``getGlobalCostmap`` returns). Plugin ids in a request
+must be those of the one plugin each server has (:data:`PLUGIN_IDS`).
 """
 
 from __future__ import annotations
@@ -22,6 +23,15 @@ from baobab.sim.world import Pose2D
 
 MAP_FRAME = "map"
 """The one frame goals may be given in."""
+PLUGIN_IDS = {
+    "planner_id": ("GridBased",),
+    "smoother_id": ("simple_smoother",),
+    "controller_id": ("FollowPath",),
+    "goal_checker_id": ("general_goal_checker", "goal_checker"),
+    "progress_checker_id": ("progress_checker",),
+    "path_handler_id": ("PathHandler",),
+}
+"""The plugin ids the one configured plugin of each server answers to ('' = the default)."""
 
 
 class GoalRejectedError(BaobabError):
@@ -58,6 +68,17 @@ def goal_pose(pose: msgs.PoseStamped, what: str = "goal") -> Pose2D:
         return msgs.to_pose2d(pose)
     except msgs.MessageValueError as exc:
         raise GoalRejectedError(f"{what} is invalid: {exc}") from None
+
+
+def known_plugin(parameter: str, value: str, code: IntEnum | None) -> None:
+    """Refuse a plugin id (``planner_id``, ``controller_id``, ...) the server does not have.
+
+    Raises:
+        GoalRejectedError: ``value`` is neither empty (the default) nor the plugin's id.
+    """
+    if value and value not in PLUGIN_IDS[parameter]:
+        known = " or ".join(f"'{name}'" for name in PLUGIN_IDS[parameter])
+        raise GoalRejectedError(f"unknown {parameter} '{value}': the server has {known}", code)
 
 
 def goal_poses(poses: Iterable[msgs.PoseStamped] | msgs.Goals) -> list[Pose2D]:

@@ -1,14 +1,17 @@
 """The simulated robot a :class:`~baobab.nav.navigator.BasicNavigator` drives.
 
-``baobab.nav`` does not depend on robot packages: the navigation server takes any
-:class:`~baobab.nav.interfaces.MobileBase` and :class:`~baobab.nav.interfaces.ScanSource`.
-The Nav2 facade is different, because a Nav2 script constructs ``BasicNavigator()`` and expects
-a robot to be there. :func:`build_simulated_robot` is therefore **the one place in nav that
-reaches for a robot model**: it imports the robot package inside the function, when a navigator
-is built, never at module import time, so ``import baobab.nav`` stays free of ``baobab.robots``
-and the dependency stays one-way for everything else. The ROS runtime's robots
-(:mod:`baobab.nav.ros.sim_topics`) come from here too: the same Burger with what its topics
-need (odometry, joints, fixed frames), and :func:`build_simulated_arm` for the Panda.
+The navigation server takes any :class:`~baobab.nav.interfaces.MobileBase` and
+:class:`~baobab.nav.interfaces.ScanSource`. The Nav2 facade is different, because a Nav2 script
+constructs ``BasicNavigator()`` and expects a robot to be there: :func:`build_simulated_robot`
+builds one from ``baobab.robots`` (the layer below ``nav``; robots never import nav).
+
+Checking a pose (:func:`check_free`, :func:`pose_is_free`) loads no physics: ``baobab nav2``
+and ``baobab teleop`` refuse a blocked start before MuJoCo and the robot's compiled loop load,
+so the robot package is imported when a robot is built.
+
+The ROS runtime's robots (:mod:`baobab.nav.ros.sim_topics`) come from here too: the same
+Burger with what its topics need (odometry, joints, fixed frames), and the Panda
+(:func:`build_simulated_arm`).
 """
 
 from __future__ import annotations
@@ -93,8 +96,7 @@ def build_simulated_robot(robot: str, world: World, start: Pose2D, seed: int) ->
         raise NavigatorSetupError(
             f"unknown robot {robot!r}; a navigator drives one of: {', '.join(ROBOT_MODELS)}"
         )
-    # The one robot import of baobab.nav (see the module docstring): lazy on purpose.
-    from baobab.robots.turtlebot3 import BURGER, build_turtlebot3_sim
+    from baobab.robots.turtlebot3 import BURGER, build_turtlebot3_sim  # MuJoCo: only to build
 
     check_free(world, start, BURGER.footprint_radius, what="start pose")
     _, turtlebot = build_turtlebot3_sim(world, start, seed=seed)

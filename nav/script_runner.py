@@ -29,22 +29,20 @@ import sys
 import traceback
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from types import CodeType, TracebackType
+from types import TracebackType
 from typing import Any
 
 from baobab.nav.defaults import use_navigator_defaults
 from baobab.nav.ros import ros_shims
+from baobab.nav.ros.script_files import ScriptError, check_script
 from baobab.sim.errors import SourceError
-from baobab.sim.input_files import read_input_file
 
 EXIT_OK = 0
 EXIT_FAILED = 1
 EXIT_INVALID = 2
 EXIT_INTERRUPTED = 130
 
-
-class ScriptError(SourceError):
-    """A script that cannot be read or compiled, located as ``path:line:col: message``."""
+__all__ = ["ScriptError", "check_script", "run_nav2_script"]
 
 
 def run_nav2_script(
@@ -75,25 +73,6 @@ def run_nav2_script(
     return contextvars.copy_context().run(
         _run_isolated, script, dict(navigator_defaults or {}), [str(script), *argv]
     )
-
-
-def check_script(path: Path) -> CodeType:
-    """Read and compile the script at ``path`` without running it.
-
-    Raises:
-        ScriptError: the file cannot be read (or is not a regular file, or is over
-            :data:`~baobab.sim.input_files.MAX_INPUT_BYTES`), or holds a syntax error (located
-            where Python locates it).
-    """
-    shown = str(path)
-    source = read_input_file(path, ScriptError, expected="a Python script")
-    try:
-        return compile(source, shown, "exec", dont_inherit=True)
-    except SyntaxError as exc:
-        line, column = exc.lineno or 1, exc.offset or 1
-        raise ScriptError(shown, line, max(column, 1), f"{type(exc).__name__}: {exc.msg}") from None
-    except ValueError as exc:  # NUL bytes in the source
-        raise ScriptError(shown, 1, 1, str(exc)) from None
 
 
 def _run_isolated(script: Path, defaults: dict[str, Any], argv: list[str]) -> int:

@@ -8,20 +8,16 @@ recovery behaviours, and at most one running task. Every task method returns a
 
 - local costmap update 5 Hz, global costmap update 1 Hz (each takes the latest scan, Nav2's
   ``observation_persistence`` 0);
+- a costmap clear (the tree's ClearEntireCostmap recoveries, ``clear_costmaps``) resets the
+  obstacle layers and marks the latest scan again at once. Nav2's planner and controller wait
+  after a clear until the costmap is current again (``waitForCostmap``), and its next update
+  marks the latest observation again, so neither ever plans or drives on a costmap that has
+  forgotten what the lidar sees; a clear forgets only what it no longer sees;
 - the active task's tick at the controller rate (20 Hz; behaviours cycle at 10 Hz).
 
-Goals while a task runs (the choice, following Nav2's action servers):
-
-- same type, navigation or FollowPath or FollowWaypoints: preempted in place. The robot keeps
-  going towards the new goal, which is planned for on the next tick; navigation time and
-  recoveries restart; the old handle ends FAILED with error code 0 ("preempted"), as Nav2
-  aborts it with an empty result.
-- same type, a behaviour (spin, back up, ...): behaviours cannot be preempted in Nav2; the
-  old one is aborted the same way (FAILED, code 0) and the new one starts.
-- another type: the running task is canceled (CANCELED) and the new one starts. (Nav2 wants
-  an explicit cancel first; doing it here is what a caller would do anyway.)
-
-``cancel()`` (or the handle's) halts the task and commands zero velocity at once.
+Goals while a task runs are preempted, or replace the running task, as Nav2's action servers
+do (:mod:`baobab.nav.task_slot`); ``cancel()`` (or the handle's) halts the task and commands
+zero velocity at once. Scans reach the costmaps as :mod:`baobab.nav.costmap_updates` says.
 
 The server satisfies ``baobab.behaviours.ports.NavigationPort`` structurally; ``nav`` does
 not import ``behaviours`` (dependencies point the other way).
@@ -30,7 +26,7 @@ not import ``behaviours`` (dependencies point the other way).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -41,7 +37,6 @@ from baobab.nav.behaviors import (
     BackUp,
     BehaviorContext,
     BehaviorParams,
-    ClearCostmaps,
     DriveOnHeading,
     Spin,
     TeleopInput,
@@ -49,6 +44,7 @@ from baobab.nav.behaviors import (
 )
 from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
 from baobab.nav.interfaces import MobileBase, ScanSource, ServerTask
@@ -58,11 +54,11 @@ from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
 from baobab.nav.path import Path
 from baobab.nav.planner import GlobalPlanner, PlannerParams
 from baobab.nav.smoother import SimpleSmoother
+from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
 from baobab.nav.waypoints import WaypointFollower
-from baobab.sim.lidar import LaserScan
 from baobab.sim.simulation import PeriodicHandle, Simulation
-from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
+from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
 
 
@@ -81,20 +77,6 @@ class NavigationParams:
     behaviors: BehaviorParams = field(default_factory=BehaviorParams)
     navigator: NavigatorParams = field(default_factory=NavigatorParams)
     waypoint_loop_rate: float = 20.0
-
-
-@dataclass
-class _Active:
-    handle: TaskHandle
-    task: ServerTask
-    next_tick: float
-
-
-_CANCELED = TaskOutcome(TaskStatus.CANCELED, 0, "canceled")
-
-
-def _preempted(name: str) -> TaskOutcome:
-    return TaskOutcome(TaskStatus.FAILED, 0, f"preempted by a new {name} goal")
 
 
 class NavigationServer:
@@ -138,24 +120,21 @@ class NavigationServer:
         self.follower = PathFollower(base, self.local_costmap, p.controller)
         self.teleop_input = TeleopInput()
         self.teleop_stats = AssistedTeleopStats()
-        self._clear = ClearCostmaps(self.local_layers, self.global_layers)
+        self.costmap_updates = CostmapUpdates(base, self.local_layers, self.global_layers)
         self.behavior_context = BehaviorContext(
             base,
             self.local_costmap,
             p.behaviors,
             self.teleop_input,
-            clear_costmaps=self._clear_and_remark,
+            clear_costmaps=self.clear_costmaps,
             teleop_stats=self.teleop_stats,
         )
         self.metrics = NavigationMetrics()
-        self._active: _Active | None = None
+        self.tasks = TaskSlot(base, self.follower, self._clock)
         self._lidar = lidar
-        self._latest_scan: LaserScan | None = None
-        self._local_scan: LaserScan | None = None
-        self._global_scan: LaserScan | None = None
         self._last_pose = base.pose()
         if lidar is not None:
-            lidar.subscribe(self._on_scan)
+            lidar.subscribe(self.costmap_updates.on_scan)
         self._timers: list[PeriodicHandle] = [
             sim.every(1.0 / p.local_costmap_update_hz, self._update_local, name="nav local"),
             sim.every(1.0 / p.global_costmap_update_hz, self._update_global, name="nav global"),
@@ -168,7 +147,7 @@ class NavigationServer:
 
     def navigate_to_pose(self, goal: Pose2D) -> TaskHandle:
         """Plan and drive to ``goal`` (map frame), replanning at 1 Hz, with recoveries."""
-        return self._submit(
+        return self.tasks.submit(
             "navigate_to_pose",
             lambda: self._navigate_task([goal], through_poses=False),
             lambda task: _preempt_navigation(task, [goal]),
@@ -177,7 +156,7 @@ class NavigationServer:
     def navigate_through_poses(self, goals: Sequence[Pose2D]) -> TaskHandle:
         """Drive through ``goals`` in order without stopping at the intermediate ones."""
         goal_list = list(goals)
-        return self._submit(
+        return self.tasks.submit(
             "navigate_through_poses",
             lambda: self._navigate_task(goal_list, through_poses=True),
             lambda task: _preempt_navigation(task, goal_list),
@@ -221,7 +200,7 @@ class NavigationServer:
             )
             return True
 
-        return self._submit("follow_waypoints", make, preempt)
+        return self.tasks.submit("follow_waypoints", make, preempt)
 
     def follow_path(self, path: Sequence[Pose2D] | Path) -> TaskHandle:
         """Track ``path`` (map frame) with the controller alone, no planning."""
@@ -233,11 +212,13 @@ class NavigationServer:
             task.preempt(plan)
             return True
 
-        return self._submit("follow_path", lambda: FollowPathTask(plan, self.follower), preempt)
+        return self.tasks.submit(
+            "follow_path", lambda: FollowPathTask(plan, self.follower), preempt
+        )
 
     def spin(self, target_yaw: float = 1.57, time_allowance: float = 10.0) -> TaskHandle:
         """Turn in place by ``target_yaw`` rad (signed); ``time_allowance`` 0 means no limit."""
-        return self._submit(
+        return self.tasks.submit(
             "spin", lambda: Spin(self.behavior_context, target_yaw, time_allowance), None
         )
 
@@ -245,7 +226,7 @@ class NavigationServer:
         self, distance: float = 0.15, speed: float = 0.025, time_allowance: float = 10.0
     ) -> TaskHandle:
         """Reverse ``|distance|`` m at ``|speed|`` m/s (at least 0.10 m/s, Nav2's minimum)."""
-        return self._submit(
+        return self.tasks.submit(
             "back_up",
             lambda: BackUp(self.behavior_context, distance, speed, time_allowance),
             None,
@@ -255,7 +236,7 @@ class NavigationServer:
         self, distance: float = 0.15, speed: float = 0.025, time_allowance: float = 10.0
     ) -> TaskHandle:
         """Drive straight ``distance`` m at ``speed`` m/s (same signs; negative is backwards)."""
-        return self._submit(
+        return self.tasks.submit(
             "drive_on_heading",
             lambda: DriveOnHeading(self.behavior_context, distance, speed, time_allowance),
             None,
@@ -263,7 +244,7 @@ class NavigationServer:
 
     def wait(self, duration: float) -> TaskHandle:
         """Nav2's Wait behaviour: ``duration`` s of sim time."""
-        return self._submit("wait", lambda: Wait(self.behavior_context, duration), None)
+        return self.tasks.submit("wait", lambda: Wait(self.behavior_context, duration), None)
 
     def assisted_teleop(self, time_allowance: float = 30.0) -> TaskHandle:
         """Drive by :meth:`teleop_command` through the collision projection.
@@ -274,7 +255,7 @@ class NavigationServer:
         ``current_teleop_duration`` (s) and ``scaling`` (the factor applied this cycle);
         totals over all sessions are in :attr:`teleop_stats`.
         """
-        return self._submit(
+        return self.tasks.submit(
             "assisted_teleop",
             lambda: AssistedTeleop(self.behavior_context, time_allowance),
             None,
@@ -297,18 +278,17 @@ class NavigationServer:
 
     def cancel(self) -> None:
         """Cancel the running task, if any: CANCELED, robot commanded to stop at once."""
-        if self._active is not None:
-            self._active.handle.cancel()
+        self.tasks.cancel()
 
     @property
     def active_task(self) -> TaskHandle | None:
         """The handle of the running task, or None."""
-        return None if self._active is None else self._active.handle
+        return self.tasks.handle
 
     @property
     def current_path(self) -> Path | None:
         """The path the controller follows now (None when no task drives)."""
-        return None if self._active is None else self.follower.path
+        return None if self.tasks.handle is None else self.follower.path
 
     # -- synchronous services -----------------------------------------------------------------
 
@@ -356,8 +336,13 @@ class NavigationServer:
         return smoothed
 
     def clear_costmaps(self, which: str = "all") -> None:
-        """Clear the obstacle layers of the ``local``, ``global`` or ``all`` costmaps."""
-        self._clear(which)
+        """Clear the obstacle layers of the ``local``, ``global`` or ``all`` costmaps, then mark
+        the latest scan again: what the lidar still sees stays (see the module docstring).
+
+        Raises:
+            ValueError: for any other name.
+        """
+        self.costmap_updates.clear_and_remark(which)
 
     def global_costmap(self) -> Costmap2D:
         """The global costmap, up to date."""
@@ -373,7 +358,7 @@ class NavigationServer:
         for timer in self._timers:
             timer.cancel()
         if self._lidar is not None:
-            self._lidar.unsubscribe(self._on_scan)
+            self._lidar.unsubscribe(self.costmap_updates.on_scan)
 
     # -- internals ----------------------------------------------------------------------------
 
@@ -392,74 +377,11 @@ class NavigationServer:
     def _clock(self) -> float:
         return self.sim.time
 
-    def _submit(
-        self,
-        name: str,
-        make: Callable[[], ServerTask],
-        preempt: Callable[[ServerTask], bool] | None,
-    ) -> TaskHandle:
-        handle = TaskHandle(name, self._on_cancel)
-        active = self._active
-        if active is not None:
-            # The task's feedback dict goes on with the new goal; the old handle keeps a copy
-            # of its last feedback, so it no longer changes (nor is cleared) once it has ended.
-            last_feedback = dict(active.task.feedback)
-            if active.handle.name == name and preempt is not None and preempt(active.task):
-                previous, active.handle = active.handle, handle
-                handle.feedback = active.task.feedback
-                previous.feedback = last_feedback
-                previous.finish(_preempted(name))
-                return handle
-            self._active = None
-            active.task.halt()
-            self.base.stop()
-            same = active.handle.name == name
-            active.handle.finish(_preempted(name) if same else _CANCELED)
-        self.follower.path = None  # no current path until the new task plans or brings one
-        task = make()
-        handle.feedback = task.feedback
-        self._active = _Active(handle, task, next_tick=self.sim.time)
-        return handle
-
-    def _on_cancel(self, handle: TaskHandle) -> None:
-        active = self._active
-        if active is None or active.handle is not handle:
-            return
-        self._active = None
-        active.task.halt()
-        self.base.stop()
-        handle.finish(_CANCELED)
-
-    def _clear_and_remark(self, which: str) -> None:
-        """Clear, then mark the latest scan again: what the lidar still sees stays.
-
-        Nav2's obstacle layer re-marks its latest observation on every update, so a clearing
-        only forgets obstacles the sensor no longer sees; here a scan is marked once, so the
-        latest one is marked again at once (assisted teleop's periodic clearing).
-        """
-        self._clear(which)
-        scan = self._latest_scan
-        if scan is None:
-            return
-        if which in ("local", "all"):
-            self.local_layers.add_scan(scan)
-        if which in ("global", "all"):
-            self.global_layers.add_scan(scan)
-
-    def _on_scan(self, scan: LaserScan) -> None:
-        self._latest_scan = scan
-
     def _update_local(self, _now: float) -> None:
-        scan = self._latest_scan
-        fresh = scan is not None and scan is not self._local_scan
-        self._local_scan = scan
-        self.local_layers.update(self.base.pose(), [scan] if fresh and scan is not None else [])
+        self.costmap_updates.update_local()
 
     def _update_global(self, _now: float) -> None:
-        scan = self._latest_scan
-        if scan is not None and scan is not self._global_scan:
-            self._global_scan = scan
-            self.global_layers.add_scan(scan)
+        self.costmap_updates.update_global()
 
     def _on_control(self, now: float) -> None:
         pose = self.base.pose()
@@ -467,15 +389,7 @@ class NavigationServer:
             pose.x - self._last_pose.x, pose.y - self._last_pose.y
         )
         self._last_pose = pose
-        active = self._active
-        if active is None or now < active.next_tick - 1e-9:
-            return
-        active.next_tick = now + active.task.period
-        outcome = active.task.tick(now)
-        if outcome is not None and self._active is active:
-            self._active = None
-            self.base.stop()
-            active.handle.finish(outcome)
+        self.tasks.tick(now)
 
 
 def _preempt_navigation(task: ServerTask, goals: list[Pose2D]) -> bool:

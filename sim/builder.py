@@ -57,7 +57,14 @@ def world_spec(
     spec.visual.headlight.diffuse = [0.5, 0.5, 0.5]
     spec.stat.center = [world.floor.center[0], world.floor.center[1], 0.0]
     spec.stat.extent = max(world.floor.size) / 2
+    _add_floor(spec, world)
+    _add_obstacles(spec.worldbody, world)
+    _add_movable_slots(spec.worldbody, movable_slots)
+    return spec
 
+
+def _add_floor(spec: mujoco.MjSpec, world: World) -> None:
+    """The checkered floor plane (``FLOOR_GROUP``) and the sun above its centre."""
     body = spec.worldbody
     (sx, sy), (cx, cy) = world.floor.size, world.floor.center
     texture = spec.add_texture(
@@ -86,6 +93,10 @@ def world_spec(
         diffuse=[0.6, 0.6, 0.6],
         castshadow=False,
     )
+
+
+def _add_obstacles(body: mujoco.MjsBody, world: World) -> None:
+    """The world file's boxes and cylinders, standing on the floor (``STATIC_GROUP``)."""
     for box in world.boxes:
         body.add_geom(
             name=box.name,
@@ -105,7 +116,11 @@ def world_spec(
             rgba=list(cylinder.colour),
             group=STATIC_GROUP,
         )
-    for index in range(movable_slots):
+
+
+def _add_movable_slots(body: mujoco.MjsBody, count: int) -> None:
+    """``count`` mocap boxes (``MOVABLE_GROUP``) parked far away until an event places one."""
+    for index in range(count):
         slot = body.add_body(
             name=movable_slot_name(index),
             mocap=True,
@@ -118,7 +133,6 @@ def world_spec(
             rgba=[0.85, 0.35, 0.2, 1.0],
             group=MOVABLE_GROUP,
         )
-    return spec
 
 
 def _yaw_quaternion_wxyz(yaw: float) -> list[float]:

@@ -38,42 +38,15 @@ from baobab.sim.world import Pose2D
 
 __all__ = [
     "ANY_OBJECT",
-    "TASK_FEEDBACK",
-    "TREE_STATUS",
     "JsonSchema",
     "LiveSink",
     "McapSink",
     "Recorder",
     "RecordingError",
     "Sink",
-    "Topics",
     "Trail",
     "Transform",
 ]
-
-
-class Topics:
-    """The topic names baobab records under (Nav2 / ROS conventions where they exist)."""
-
-    TF = "/tf"
-    TF_STATIC = "/tf_static"
-    """Transforms that never change (ROS's latched ``/tf_static``)."""
-    SCAN = "/scan"
-    ROBOT_POSE = "/robot_pose"
-    PLAN = "/plan"
-    FOLLOWED_PATH = "/followed_path"
-    GLOBAL_COSTMAP = "/global_costmap/costmap"
-    WORLD_SCENE = "/world/scene"
-    """Static obstacles, movable obstacles and named locations."""
-    ROBOT_SCENE = "/robot/scene"
-    TREE_STATUS = "/behavior_tree/status"
-    TASK_FEEDBACK = "/task/feedback"
-    JOINT_STATES = "/joint_states"
-    CURRENT_POSE = "/cartesian_impedance/current_pose"
-    DESIRED_POSE = "/cartesian_impedance/desired_pose"
-    FILT_REF_POSE = "/cartesian_impedance/filt_ref_pose"
-    ARM_SCENE = "/scene"
-    """The Panda scene: arm, table and cube."""
 
 
 @dataclass(frozen=True)
@@ -85,37 +58,7 @@ class JsonSchema:
 
 
 ANY_OBJECT = JsonSchema("baobab.Json", {"type": "object"})
-
-TREE_STATUS = JsonSchema(
-    "baobab.BehaviourTreeStatus",
-    {
-        "type": "object",
-        "properties": {
-            "tick": {"type": "integer"},
-            "root_status": {"type": "string"},
-            "nodes": {
-                "type": "array",
-                "items": {
-                    "type": "object",
-                    "properties": {
-                        "path": {"type": "string"},
-                        "name": {"type": "string"},
-                        "type": {"type": "string"},
-                        "status": {"enum": ["INVALID", "RUNNING", "SUCCESS", "FAILURE"]},
-                    },
-                },
-            },
-        },
-    },
-)
-"""Suggested payload: ``{"tick": n, "root_status": "RUNNING", "nodes": [{"path", "name",
-"type", "status"}, ...]}`` with nodes in depth-first order."""
-
-TASK_FEEDBACK = JsonSchema(
-    "baobab.TaskFeedback",
-    {"type": "object", "properties": {"task": {"type": "string"}}},
-)
-"""Suggested payload: ``{"task": "NavigateToPose", ...}`` plus Nav2's feedback field names."""
+"""A JSON channel's schema when the payload's shape is not described further."""
 
 
 @dataclass(frozen=True)
@@ -177,18 +120,16 @@ class Recorder(Closable):
 
     # -- navigation ---------------------------------------------------------------------------
 
-    def log_transforms(
-        self, t: float, transforms: Sequence[Transform], *, topic: str = Topics.TF
-    ) -> None:
-        """Log transforms stamped ``t`` (s), e.g. map -> odom -> base_link, as one message."""
+    def log_transforms(self, topic: str, t: float, transforms: Sequence[Transform]) -> None:
+        """Log transforms stamped ``t`` (s), e.g. map -> odom -> base_link, as one message
+        (ROS's topic is ``/tf``)."""
         ns = self._stamp(topic, t)
         message = _frame_transforms(transforms, convert.timestamp(ns))
         self._channel(topic, fc.FrameTransformsChannel).log(message, log_time=ns)
 
-    def log_static_transforms(
-        self, t: float, transforms: Sequence[Transform], *, topic: str = Topics.TF_STATIC
-    ) -> None:
-        """Log transforms that never change, stamped ``t`` (s), and latch them.
+    def log_static_transforms(self, topic: str, t: float, transforms: Sequence[Transform]) -> None:
+        """Log transforms that never change, stamped ``t`` (s), and latch them (ROS's
+        ``/tf_static``).
 
         A live viewer that subscribes to ``topic`` later is sent this message again (same
         stamp and log time) with the next message logged on any topic. A file holds only what
@@ -249,7 +190,7 @@ class Recorder(Closable):
         self._channel(topic, fc.PosesInFrameChannel).log(message, log_time=ns)
 
     def log_scan(
-        self, scan: LaserScan, *, topic: str = Topics.SCAN, frame_id: str = "map", z: float = 0.0
+        self, topic: str, scan: LaserScan, *, frame_id: str = "map", z: float = 0.0
     ) -> None:
         """Log a scan at its own stamp, placed at its ``sensor_pose`` (map frame) and height z.
 
@@ -339,13 +280,12 @@ class Recorder(Closable):
 
     def log_joint_states(
         self,
+        topic: str,
         t: float,
         names: Sequence[str],
         positions: Sequence[float] | np.ndarray,
         velocities: Sequence[float] | np.ndarray | None = None,
         efforts: Sequence[float] | np.ndarray | None = None,
-        *,
-        topic: str = Topics.JOINT_STATES,
     ) -> None:
         """Log joint positions (rad or m), velocities and efforts (N m or N) as JointStates."""
         count = len(names)

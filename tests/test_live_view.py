@@ -15,11 +15,12 @@ from websockets.exceptions import ConnectionClosedError, InvalidStatus
 from websockets.sync.client import connect
 from websockets.typing import Subprotocol
 
-from baobab.missions.loader import load_mission
-from baobab.missions.recording_streams import ArmStreams
-from baobab.missions.robots_wiring import ArmRig
-from baobab.missions.runner import RecordingOptions, run_mission
-from baobab.sim.recording import TREE_STATUS, LiveSink, McapSink, Recorder, Topics, Transform
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.recording_streams import ArmStreams
+from baobab.missions.run.recording_topics import TREE_STATUS_SCHEMA, Topics
+from baobab.missions.run.rig import ArmRig
+from baobab.missions.run.runner import RecordingOptions, run_mission
+from baobab.sim.recording import LiveSink, McapSink, Recorder, Transform
 from baobab.sim.world import Pose2D
 
 HANG_GUARD = 20.0
@@ -51,9 +52,13 @@ def test_a_client_of_either_subprotocol_receives_every_channel(subprotocol: str)
 
         def log_every_topic(t: float) -> None:
             odom = Transform.planar("map", "odom", Pose2D(x=1.0, y=2.0, yaw=0.5))
-            recorder.log_transforms(t, [odom])
-            recorder.log_static_transforms(t, [Transform("world", "panda/link0", (0.1, 0, 0))])
-            recorder.log_json(Topics.TREE_STATUS, t, {"tick": round(t * 10)}, schema=TREE_STATUS)
+            recorder.log_transforms(Topics.TF, t, [odom])
+            recorder.log_static_transforms(
+                Topics.TF_STATIC, t, [Transform("world", "panda/link0", (0.1, 0, 0))]
+            )
+            recorder.log_json(
+                Topics.TREE_STATUS, t, {"tick": round(t * 10)}, schema=TREE_STATUS_SCHEMA
+            )
             recorder.log_grid(Topics.GLOBAL_COSTMAP, t, costmap, resolution=0.05, origin=(-1, 0))
 
         log_every_topic(0.0)

@@ -20,20 +20,18 @@ from mcap_protobuf.decoder import DecoderFactory
 from scipy.spatial.transform import Rotation
 from websockets.sync.client import connect
 
+from baobab.missions.language.btcpp_log import BtLogWriter, BtStatus
+from baobab.missions.run.recording_topics import TASK_FEEDBACK_SCHEMA, TREE_STATUS_SCHEMA, Topics
 from baobab.nav.layered_costmap import LayeredCostmap
 from baobab.robots.panda.model import ARM_JOINTS
 from baobab.robots.panda.scene import build_panda_sim
 from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
-from baobab.sim.btlog import BtLogWriter, BtStatus
 from baobab.sim.lidar import LaserScan
 from baobab.sim.recording import (
-    TASK_FEEDBACK,
-    TREE_STATUS,
     LiveSink,
     McapSink,
     Recorder,
     RecordingError,
-    Topics,
     Trail,
     Transform,
 )
@@ -101,6 +99,7 @@ def test_turtlebot3_run_round_trips_through_mcap(tmp_path: Path) -> None:
             pose, odom = robot.base.pose(), robot.base.odometry.pose
             origin = robot.base.odom_origin
             recorder.log_transforms(
+                Topics.TF,
                 t,
                 [
                     Transform.planar("map", "odom", origin),
@@ -116,13 +115,13 @@ def test_turtlebot3_run_round_trips_through_mcap(tmp_path: Path) -> None:
                 Topics.TREE_STATUS,
                 t,
                 {"tick": round(t * 10), "root_status": "RUNNING", "nodes": []},
-                schema=TREE_STATUS,
+                schema=TREE_STATUS_SCHEMA,
             )
             recorder.log_json(
                 Topics.TASK_FEEDBACK,
                 t,
                 {"task": "NavigateToPose", "distance_remaining": math.inf, "eta": np.float32(1.5)},
-                schema=TASK_FEEDBACK,
+                schema=TASK_FEEDBACK_SCHEMA,
             )
 
         def at_5_hz(t: float) -> None:
@@ -141,7 +140,7 @@ def test_turtlebot3_run_round_trips_through_mcap(tmp_path: Path) -> None:
 
         def on_scan(scan: LaserScan) -> None:
             scans.append(scan)
-            recorder.log_scan(scan, z=0.182)
+            recorder.log_scan(Topics.SCAN, scan, z=0.182)
 
         sim.every(0.05, at_20_hz, name="tf")
         sim.every(0.1, at_10_hz, name="tree")
@@ -259,7 +258,7 @@ def test_panda_streams_poses_joints_and_geom_scene(tmp_path: Path) -> None:
         base = Transform(
             "world", "panda/link0", tuple(arm.base_position), tuple(arm.base_rotation.as_quat())
         )
-        recorder.log_transforms(0.0, [base])
+        recorder.log_transforms(Topics.TF, 0.0, [base])
 
         def at_100_hz(t: float) -> None:
             controller = arm.controller
@@ -274,7 +273,7 @@ def test_panda_streams_poses_joints_and_geom_scene(tmp_path: Path) -> None:
                 logged[topic].append(np.concatenate([xyz, quaternion]))
             positions = [float(sim.data.joint(n).qpos[0]) for n in names]
             velocities = [float(sim.data.joint(n).qvel[0]) for n in names]
-            recorder.log_joint_states(t, names, positions, velocities)
+            recorder.log_joint_states(Topics.JOINT_STATES, t, names, positions, velocities)
             logged[Topics.JOINT_STATES].append(np.array(positions))
 
         sim.every(0.01, at_100_hz, name="arm poses")
@@ -373,7 +372,7 @@ def test_recorder_rejects_time_going_backwards_and_mixed_types(tmp_path: Path) -
         with pytest.raises(ValueError, match="uint8"):
             recorder.log_grid("/g", 0.0, np.zeros((3, 3)), resolution=0.1, origin=(0, 0))
         with pytest.raises(ValueError, match="joints"):
-            recorder.log_joint_states(0.0, ["a", "b"], [0.0])
+            recorder.log_joint_states(Topics.JOINT_STATES, 0.0, ["a", "b"], [0.0])
     with pytest.raises(RecordingError, match="folder"):
         Recorder([McapSink(tmp_path / "missing" / "x.mcap")])
 
@@ -391,8 +390,8 @@ def test_trail_keeps_poses_only_after_enough_motion() -> None:
 def test_live_sink_advertises_channels_and_streams_to_a_websocket_client() -> None:
     sink = LiveSink(host="127.0.0.1", port=0)
     with Recorder([sink]) as recorder:
-        recorder.log_transforms(0.0, [Transform.planar("map", "odom", Pose2D(x=0, y=0))])
-        recorder.log_json(Topics.TREE_STATUS, 0.0, {"tick": 0}, schema=TREE_STATUS)
+        recorder.log_transforms(Topics.TF, 0.0, [Transform.planar("map", "odom", Pose2D(x=0, y=0))])
+        recorder.log_json(Topics.TREE_STATUS, 0.0, {"tick": 0}, schema=TREE_STATUS_SCHEMA)
         assert sink.port > 0
         with pytest.raises(RecordingError, match="cannot serve Foxglove"):
             Recorder([LiveSink(port=sink.port)])  # the port is taken
@@ -412,7 +411,9 @@ def test_live_sink_advertises_channels_and_streams_to_a_websocket_client() -> No
             subscription = {"id": 7, "channelId": advertised[Topics.TF]["id"]}
             ws.send(json.dumps({"op": "subscribe", "subscriptions": [subscription]}))
             assert sink.wait_for_subscription(Topics.TF, HANG_GUARD)
-            recorder.log_transforms(0.5, [Transform.planar("map", "odom", Pose2D(x=1, y=2))])
+            recorder.log_transforms(
+                Topics.TF, 0.5, [Transform.planar("map", "odom", Pose2D(x=1, y=2))]
+            )
             while True:
                 frame = ws.recv(timeout=HANG_GUARD)
                 if isinstance(frame, bytes) and frame[0] == 1:  # 1: message data

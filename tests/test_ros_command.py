@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from ros_harness import BUNDLED_NODES, ROS_NODES
 
-from baobab.missions.cli import main
+from baobab.missions.cli.command_line import main
 
 PUB, SUB = str(ROS_NODES / "pub_node.py"), str(ROS_NODES / "sub_node.py")
 LAUNCH = ROS_NODES / "launch"

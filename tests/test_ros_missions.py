@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pytest
 
-from baobab.missions.errors import MissionError
-from baobab.missions.events import EventError
-from baobab.missions.loader import load_mission
-from baobab.missions.run_command import resolve_mission
-from baobab.missions.runner import run_mission
+from baobab.missions.language.bundled_missions import resolve_mission
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.events import EventError
+from baobab.missions.run.runner import run_mission
 
 FIXTURES = Path(__file__).parent / "missions"
 

@@ -1,4 +1,4 @@
-"""Parameters, --ros-args and params files as rclpy reads them (baobab.nav.ros.parameters,
+"""Parameters, --ros-args and params files as rclpy reads them (baobab.nav.ros.rclpy._parameters,
 arguments), with the seed's pub/sub nodes."""
 
 from __future__ import annotations

@@ -16,12 +16,13 @@ from pathlib import Path
 
 import pytest
 
-from baobab.missions.cli import main
-from baobab.missions.error_codes import MissionErrorCode, error_codes
-from baobab.missions.loader import load_mission
-from baobab.missions.robot_catalog import ROBOTS
-from baobab.missions.robots_wiring import build_rig
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.error_codes import MissionErrorCode, error_codes
+from baobab.missions.language.loader import load_mission
+from baobab.missions.language.metric_names import metric_names, structured_metric_names
+from baobab.missions.run.rig import build_rig
 from baobab.nav import errors as nav_errors
+from baobab.robots.catalog import ROBOTS
 
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
 MOBILE = HEADER + "mission: m\nworld: walls\nrobot: turtlebot3\ntree: {wait: 1}\n"
@@ -39,8 +40,8 @@ def test_the_metric_catalogue_is_what_a_run_registers(text: str, tmp_path: Path)
     path.write_text(text)
     mission = load_mission(path)
     rig = build_rig(mission, seed=0)
-    assert list(mission.robot.metrics) == rig.metrics.number_names()
-    every = set(mission.robot.metrics) | set(mission.robot.structured_metrics)
+    assert list(metric_names(mission.robot)) == rig.metrics.number_names()
+    every = set(metric_names(mission.robot)) | set(structured_metric_names(mission.robot))
     assert every == set(rig.metrics.names())
 
 

@@ -45,7 +45,7 @@ from baobab.nav.ros.launch._entities import (
     Substitution,
     TextSubstitution,
 )
-from baobab.nav.script_runner import check_script
+from baobab.nav.ros.script_files import check_script
 
 MAX_INCLUDE_DEPTH = 20
 """How deeply launch files may include each other (a cycle stops here)."""

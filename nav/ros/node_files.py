@@ -22,7 +22,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from types import TracebackType
 
-from baobab.nav.script_runner import ScriptError, check_script
+from baobab.nav.ros.script_files import ScriptError, check_script
 
 __all__ = ["ScriptError", "check_script", "failure_report", "node_file_main", "node_file_paths"]
 

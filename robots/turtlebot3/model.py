@@ -166,60 +166,18 @@ def _add_chassis(chassis: mujoco.MjsBody, facts: BurgerFacts) -> None:
     width, height = 2 * _CHASSIS_HALF, 0.15
     ixx = facts.chassis_mass / 12 * (width**2 + height**2)
     chassis.inertia = [ixx, ixx, facts.chassis_mass / 12 * 2 * width**2]
-
-    def geom(**kwargs: object) -> mujoco.MjsGeom:
-        return chassis.add_geom(group=ROBOT_GROUP, **kwargs)
-
-    def visual(**kwargs: object) -> mujoco.MjsGeom:
-        return geom(contype=0, conaffinity=0, **kwargs)
-
     # The collision envelope of the plate stack, and what the eye sees of it.
-    geom(
+    _geom(
+        chassis,
         name="chassis",
         type=mujoco.mjtGeom.mjGEOM_BOX,
         size=[_CHASSIS_HALF, _CHASSIS_HALF, 0.069],
         pos=[_CHASSIS_CENTER_X, 0.0, 0.089],
         rgba=_INVISIBLE,
     )
-    for level, z in enumerate((0.020, 0.068, 0.112, 0.152)):
-        visual(
-            name=f"plate_{level}",
-            type=mujoco.mjtGeom.mjGEOM_BOX,
-            size=[_CHASSIS_HALF, _CHASSIS_HALF, 0.0015],
-            pos=[_CHASSIS_CENTER_X, 0.0, z],
-            rgba=_PLATE,
-        )
-    for index, (dx, dy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
-        visual(
-            name=f"standoff_{index}",
-            type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-            size=[0.003, 0.066, 0.0],
-            pos=[_CHASSIS_CENTER_X + dx * 0.052, dy * 0.052, 0.086],
-            rgba=_HUB,
-        )
-    for side, sign in (("left", 1.0), ("right", -1.0)):
-        visual(
-            name=f"motor_{side}",
-            type=mujoco.mjtGeom.mjGEOM_BOX,
-            size=[0.023, 0.017, 0.014],
-            pos=[0.0, sign * 0.050, 0.036],
-            rgba=_DARK,
-        )
-    visual(
-        name="battery",
-        type=mujoco.mjtGeom.mjGEOM_BOX,
-        size=[0.044, 0.017, 0.011],
-        pos=[_CHASSIS_CENTER_X - 0.010, 0.0, 0.034],
-        rgba=[0.85, 0.72, 0.20, 1.0],
-    )
-    visual(
-        name="board",
-        type=mujoco.mjtGeom.mjGEOM_BOX,
-        size=[0.050, 0.050, 0.004],
-        pos=[_CHASSIS_CENTER_X, 0.0, 0.118],
-        rgba=_BOARD,
-    )
-    geom(
+    _add_plate_stack(chassis)
+    _geom(
+        chassis,
         name="caster",
         type=mujoco.mjtGeom.mjGEOM_SPHERE,
         size=[_CASTER_RADIUS, 0.0, 0.0],
@@ -229,15 +187,87 @@ def _add_chassis(chassis: mujoco.MjsBody, facts: BurgerFacts) -> None:
         priority=1,
         rgba=_HUB,
     )
+    _add_lidar(chassis, facts)
+    _visual(
+        chassis,
+        name="footprint",
+        type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+        size=[facts.footprint_radius, 0.095, 0.0],
+        pos=[0.0, 0.0, 0.105],
+        rgba=_INVISIBLE,
+    )
+
+
+def _geom(body: mujoco.MjsBody, **kwargs: object) -> mujoco.MjsGeom:
+    """A geom of the robot (``ROBOT_GROUP``)."""
+    return body.add_geom(group=ROBOT_GROUP, **kwargs)
+
+
+def _visual(body: mujoco.MjsBody, **kwargs: object) -> mujoco.MjsGeom:
+    """A geom of the robot that only decorates: it collides with nothing."""
+    return _geom(body, contype=0, conaffinity=0, **kwargs)
+
+
+def _add_plate_stack(chassis: mujoco.MjsBody) -> None:
+    """What the eye sees of the chassis: plates, standoffs, motors, battery and board."""
+    for level, z in enumerate((0.020, 0.068, 0.112, 0.152)):
+        _visual(
+            chassis,
+            name=f"plate_{level}",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            size=[_CHASSIS_HALF, _CHASSIS_HALF, 0.0015],
+            pos=[_CHASSIS_CENTER_X, 0.0, z],
+            rgba=_PLATE,
+        )
+    for index, (dx, dy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
+        _visual(
+            chassis,
+            name=f"standoff_{index}",
+            type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+            size=[0.003, 0.066, 0.0],
+            pos=[_CHASSIS_CENTER_X + dx * 0.052, dy * 0.052, 0.086],
+            rgba=_HUB,
+        )
+    for side, sign in (("left", 1.0), ("right", -1.0)):
+        _visual(
+            chassis,
+            name=f"motor_{side}",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            size=[0.023, 0.017, 0.014],
+            pos=[0.0, sign * 0.050, 0.036],
+            rgba=_DARK,
+        )
+    _visual(
+        chassis,
+        name="battery",
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[0.044, 0.017, 0.011],
+        pos=[_CHASSIS_CENTER_X - 0.010, 0.0, 0.034],
+        rgba=[0.85, 0.72, 0.20, 1.0],
+    )
+    _visual(
+        chassis,
+        name="board",
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[0.050, 0.050, 0.004],
+        pos=[_CHASSIS_CENTER_X, 0.0, 0.118],
+        rgba=_BOARD,
+    )
+
+
+def _add_lidar(chassis: mujoco.MjsBody, facts: BurgerFacts) -> None:
+    """The LDS-01 on top: its base and turret, and the ``base_scan`` site it scans from."""
     lidar_x = facts.lidar_offset_x
-    geom(
+    _geom(
+        chassis,
         name="lds_base",
         type=mujoco.mjtGeom.mjGEOM_CYLINDER,
         size=[0.035, 0.010, 0.0],
         pos=[lidar_x, 0.0, 0.166],
         rgba=_LIDAR,
     )
-    geom(
+    _geom(
+        chassis,
         name="lds_turret",
         type=mujoco.mjtGeom.mjGEOM_CYLINDER,
         size=[0.030, 0.010, 0.0],
@@ -250,13 +280,6 @@ def _add_chassis(chassis: mujoco.MjsBody, facts: BurgerFacts) -> None:
         size=[0.01, 0.0, 0.0],
         group=ROBOT_GROUP,
         rgba=[1.0, 0.2, 0.2, 1.0],
-    )
-    visual(
-        name="footprint",
-        type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-        size=[facts.footprint_radius, 0.095, 0.0],
-        pos=[0.0, 0.0, 0.105],
-        rgba=_INVISIBLE,
     )
 
 

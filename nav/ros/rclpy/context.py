@@ -8,14 +8,23 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
 from types import TracebackType
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from baobab.nav.ros import waiting
 from baobab.nav.ros.arguments import RosArguments, parse_ros_arguments
 from baobab.nav.ros.graph import Graph
 
-if TYPE_CHECKING:
-    from baobab.nav.ros.rclpy.node import Node
+
+class TrackedNode(Protocol):
+    """What a context needs of the nodes created in it (:class:`~.node.Node` is one)."""
+
+    def destroy_node(self) -> None:
+        """Release the node."""
+        ...
+
+    def get_name(self) -> str:
+        """The node's name."""
+        ...
 
 
 class Context:
@@ -28,7 +37,7 @@ class Context:
     def __init__(self) -> None:
         self._initialized = False
         self._shut_down = False
-        self._nodes: list[weakref.ref[Node]] = []
+        self._nodes: list[weakref.ref[TrackedNode]] = []
         self._callbacks: list[Callable[[], None]] = []
         self.arguments = RosArguments()
         """What the ``--ros-args`` sections of ``init(args=...)`` said."""
@@ -109,7 +118,7 @@ class Context:
         else:
             self._callbacks.append(callback)
 
-    def track_node(self, node: Node) -> None:
+    def track_node(self, node: TrackedNode) -> None:
         """Destroy ``node`` when this context shuts down (held weakly)."""
         # Nodes dropped without destroy_node() leave dead references; a script that makes
         # navigators in a loop must not pile them up.
@@ -120,7 +129,7 @@ class Context:
         """The names of the context's live nodes, in creation order."""
         return [node.get_name() for ref in self._nodes if (node := ref()) is not None]
 
-    def untrack_node(self, node: Node) -> None:
+    def untrack_node(self, node: TrackedNode) -> None:
         """Forget ``node`` (it was destroyed on its own)."""
         self._nodes = [ref for ref in self._nodes if ref() is not None and ref() is not node]
 

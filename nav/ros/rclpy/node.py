@@ -23,9 +23,9 @@ from baobab.nav.ros.arguments import (
     parse_ros_arguments,
     remap_topic,
 )
-from baobab.nav.ros.parameters import ParameterStore, SetCallback
 from baobab.nav.ros.qos import QoSProfile, as_profile
 from baobab.nav.ros.rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from baobab.nav.ros.rclpy._parameters import ParameterStore, SetCallback
 from baobab.nav.ros.rclpy.context import Context, get_default_context
 from baobab.nav.ros.rclpy.exceptions import InvalidTopicNameException
 from baobab.nav.ros.rclpy.logging import LoggingSeverity, RcutilsLogger
@@ -264,7 +264,7 @@ class Node:
         descriptor: ParameterDescriptor | None = None,
         ignore_override: bool = False,
     ) -> Parameter:
-        """Declare a parameter (:mod:`baobab.nav.ros.parameters` has the rules)."""
+        """Declare a parameter (:mod:`baobab.nav.ros.rclpy._parameters` has the rules)."""
         return self._parameters.declare(name, value, descriptor, ignore_override)
 
     def declare_parameters(
