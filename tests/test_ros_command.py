@@ -201,8 +201,9 @@ def test_record_writes_the_runs_messages_to_mcap(tmp_path: Path) -> None:
         messages = [
             (channel.topic, message.log_time) for _, channel, message in reader.iter_messages()
         ]
-    assert topics == {"/chatter"}
-    assert messages == [("/chatter", 1_000_000_000), ("/chatter", 2_000_000_000)]
+    assert topics == {"/chatter", "/tf_static"}  # the robot's fixed frames, latched at 0 s
+    chatter = [(topic, time) for topic, time in messages if topic == "/chatter"]
+    assert chatter == [("/chatter", 1_000_000_000), ("/chatter", 2_000_000_000)]
 
 
 OUTER = """\
@@ -248,3 +249,17 @@ def test_a_launch_file_includes_another_and_passes_params_files_and_remappings(
     assert out.count("data: 'Counter: 0'") == 1  # the second publisher's, on /renamed at 0.75 s
     assert '[INFO] [0.250000000] [minimal_subscriber]: I heard: "Counter: 0"' in err
     assert '[INFO] [0.750000000] [second_publisher]: Publishing: "Counter: 0"' in err
+
+
+def test_recorded_transforms_are_foxglove_frame_transforms(tmp_path: Path) -> None:
+    from mcap.reader import make_reader
+
+    target = tmp_path / "tf.mcap"
+    node = str(BUNDLED_NODES / "point2point_nav.py")
+    assert main(["ros", "run", node, "--duration", "0.5", "--record", str(target)]) == 0
+    with target.open("rb") as stream:
+        summary = make_reader(stream).get_summary()
+    schemas = {schema.id: schema.name for schema in summary.schemas.values()}
+    channels = {channel.topic: schemas[channel.schema_id] for channel in summary.channels.values()}
+    assert channels["/tf"] == channels["/tf_static"] == "foxglove.FrameTransforms"
+    assert summary.statistics.channel_message_counts  # the node's TF listener made /tf flow

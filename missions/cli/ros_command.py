@@ -292,17 +292,47 @@ def _echo(topic: str, message: Any) -> None:
 
 
 def _recorder(path: Path, runtime: Any) -> Any:
-    """A recorder writing every message of the run to ``path`` (one JSON channel a topic)."""
+    """A recorder writing every message of the run to ``path``: ``/tf`` and ``/tf_static`` as
+    Foxglove frame transforms (for its 3D panel), every other topic as JSON, one channel each."""
     from baobab.missions.run.output_checks import check_output_file
+    from baobab.nav.ros.tf2_msgs.msg import TFMessage
     from baobab.nav.rosmsg import to_plain
-    from baobab.sim.recording import JsonSchema, McapSink, Recorder
+    from baobab.sim.recording import JsonSchema, McapSink, Recorder, Transform
 
     check_output_file("--record", path)
     recorder = Recorder([McapSink(path)])
 
     def record(topic: str, message: Any) -> None:
+        t = runtime.now_ns() / 1e9
+        if isinstance(message, TFMessage):
+            transforms = [
+                Transform(
+                    item.header.frame_id,
+                    item.child_frame_id,
+                    (
+                        item.transform.translation.x,
+                        item.transform.translation.y,
+                        item.transform.translation.z,
+                    ),
+                    (
+                        item.transform.rotation.x,
+                        item.transform.rotation.y,
+                        item.transform.rotation.z,
+                        item.transform.rotation.w,
+                    ),
+                )
+                for item in message.transforms
+            ]
+            log = (
+                recorder.log_static_transforms if topic == "/tf_static" else recorder.log_transforms
+            )
+            log(topic, t, transforms)
+            return
         schema = JsonSchema(type(message)._type_name, {"type": "object"})
-        recorder.log_json(topic, runtime.now_ns() / 1e9, to_plain(message), schema=schema)
+        recorder.log_json(topic, t, to_plain(message), schema=schema)
 
+    for topic in runtime.graph.topic_names():
+        for message in runtime.graph.latched(topic):  # published before the recording began
+            record(topic, message)
     runtime.graph.tap(None, record)
     return recorder

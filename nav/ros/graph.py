@@ -152,6 +152,17 @@ class Graph:
             subscription.receive(message if fresh else copy.deepcopy(message))
             fresh = False
 
+    def topic_names(self) -> list[str]:
+        """Every topic named so far, sorted."""
+        return sorted(self._topics)
+
+    def latched(self, name: str) -> list[Any]:
+        """What transient-local publishers of ``name`` kept (what a late subscriber gets)."""
+        topic = self._topics.get(name)
+        if topic is None:
+            return []
+        return [message for kept in topic.kept.values() for message in kept]
+
     def has_receivers(self, name: str) -> bool:
         """True when a subscription or a tap of ``name`` would see a message published on it.
 
