@@ -19,9 +19,10 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from contextvars import ContextVar
-from dataclasses import dataclass
 from enum import IntEnum
 from typing import overload
+
+from baobab.nav.rosmsg import Message
 
 S_TO_NS = 1_000_000_000
 """Nanoseconds per second."""
@@ -32,24 +33,26 @@ SimTimeSource = Callable[[], float]
 """A callable returning the current simulation time in seconds."""
 
 
-@dataclass(slots=True, kw_only=True)
-class TimeMsg:
+class TimeMsg(Message):
     """``builtin_interfaces/msg/Time``: a time point as whole seconds plus nanoseconds."""
 
-    sec: int = 0
-    nanosec: int = 0
+    _type = "builtin_interfaces/msg/Time"
+    _fields_and_field_types = {"sec": "int32", "nanosec": "uint32"}
+    sec: int
+    nanosec: int
 
 
-@dataclass(slots=True, kw_only=True)
-class DurationMsg:
+class DurationMsg(Message):
     """``builtin_interfaces/msg/Duration``: a span as whole seconds plus nanoseconds.
 
     A negative span has a negative ``sec`` and a ``nanosec`` in ``0..999999999``
     (``-1.5 s`` is ``sec=-2, nanosec=500000000``), as rclpy writes it.
     """
 
-    sec: int = 0
-    nanosec: int = 0
+    _type = "builtin_interfaces/msg/Duration"
+    _fields_and_field_types = {"sec": "int32", "nanosec": "uint32"}
+    sec: int
+    nanosec: int
 
 
 class ClockType(IntEnum):
