@@ -71,7 +71,7 @@ class MessageValueError(BaobabError, ValueError):
 class Header(Message):
     """``std_msgs/Header``: when (``stamp``) and in which frame (``frame_id``) data holds."""
 
-    _type = "std_msgs/msg/Header"
+    _type_name = "std_msgs/msg/Header"
     _fields_and_field_types = {"stamp": "builtin_interfaces/Time", "frame_id": "string"}
     stamp: TimeMsg
     frame_id: str
@@ -83,7 +83,7 @@ class Header(Message):
 class Point(Message):
     """``geometry_msgs/Point`` (m)."""
 
-    _type = "geometry_msgs/msg/Point"
+    _type_name = "geometry_msgs/msg/Point"
     _fields_and_field_types = {"x": "double", "y": "double", "z": "double"}
     x: float
     y: float
@@ -93,7 +93,7 @@ class Point(Message):
 class Vector3(Message):
     """``geometry_msgs/Vector3`` (units of the field that holds it)."""
 
-    _type = "geometry_msgs/msg/Vector3"
+    _type_name = "geometry_msgs/msg/Vector3"
     _fields_and_field_types = {"x": "double", "y": "double", "z": "double"}
     x: float
     y: float
@@ -103,7 +103,7 @@ class Vector3(Message):
 class Quaternion(Message):
     """``geometry_msgs/Quaternion``, ``x, y, z, w``; the default is the identity."""
 
-    _type = "geometry_msgs/msg/Quaternion"
+    _type_name = "geometry_msgs/msg/Quaternion"
     _fields_and_field_types = {"x": "double", "y": "double", "z": "double", "w": "double"}
     _defaults = {"w": 1.0}
     x: float
@@ -115,7 +115,7 @@ class Quaternion(Message):
 class Pose(Message):
     """``geometry_msgs/Pose``: a position (m) and an orientation."""
 
-    _type = "geometry_msgs/msg/Pose"
+    _type_name = "geometry_msgs/msg/Pose"
     _fields_and_field_types = {
         "position": "geometry_msgs/Point",
         "orientation": "geometry_msgs/Quaternion",
@@ -127,7 +127,7 @@ class Pose(Message):
 class PoseStamped(Message):
     """``geometry_msgs/PoseStamped``: a pose in ``header.frame_id`` at ``header.stamp``."""
 
-    _type = "geometry_msgs/msg/PoseStamped"
+    _type_name = "geometry_msgs/msg/PoseStamped"
     _fields_and_field_types = {"header": "std_msgs/Header", "pose": "geometry_msgs/Pose"}
     header: Header
     pose: Pose
@@ -136,7 +136,7 @@ class PoseStamped(Message):
 class PoseWithCovariance(Message):
     """``geometry_msgs/PoseWithCovariance``: a pose and its row-major 6x6 covariance."""
 
-    _type = "geometry_msgs/msg/PoseWithCovariance"
+    _type_name = "geometry_msgs/msg/PoseWithCovariance"
     _fields_and_field_types = {"pose": "geometry_msgs/Pose", "covariance": "double[36]"}
     pose: Pose
     covariance: np.ndarray
@@ -145,7 +145,7 @@ class PoseWithCovariance(Message):
 class PoseWithCovarianceStamped(Message):
     """``geometry_msgs/PoseWithCovarianceStamped`` (what Nav2's ``initialpose`` carries)."""
 
-    _type = "geometry_msgs/msg/PoseWithCovarianceStamped"
+    _type_name = "geometry_msgs/msg/PoseWithCovarianceStamped"
     _fields_and_field_types = {
         "header": "std_msgs/Header",
         "pose": "geometry_msgs/PoseWithCovariance",
@@ -157,8 +157,11 @@ class PoseWithCovarianceStamped(Message):
 class Twist(Message):
     """``geometry_msgs/Twist``: linear (m/s) and angular (rad/s) velocity."""
 
-    _type = "geometry_msgs/msg/Twist"
-    _fields_and_field_types = {"linear": "geometry_msgs/Vector3", "angular": "geometry_msgs/Vector3"}
+    _type_name = "geometry_msgs/msg/Twist"
+    _fields_and_field_types = {
+        "linear": "geometry_msgs/Vector3",
+        "angular": "geometry_msgs/Vector3",
+    }
     linear: Vector3
     angular: Vector3
 
@@ -166,7 +169,7 @@ class Twist(Message):
 class TwistStamped(Message):
     """``geometry_msgs/TwistStamped``."""
 
-    _type = "geometry_msgs/msg/TwistStamped"
+    _type_name = "geometry_msgs/msg/TwistStamped"
     _fields_and_field_types = {"header": "std_msgs/Header", "twist": "geometry_msgs/Twist"}
     header: Header
     twist: Twist
@@ -178,7 +181,7 @@ class TwistStamped(Message):
 class Path(Message):
     """``nav_msgs/Path``: poses a robot should follow, in order."""
 
-    _type = "nav_msgs/msg/Path"
+    _type_name = "nav_msgs/msg/Path"
     _fields_and_field_types = {
         "header": "std_msgs/Header",
         "poses": "sequence<geometry_msgs/PoseStamped>",
@@ -190,7 +193,7 @@ class Path(Message):
 class Goals(Message):
     """``nav_msgs/Goals``: the goal list Rolling's ``goThroughPoses`` takes."""
 
-    _type = "nav_msgs/msg/Goals"
+    _type_name = "nav_msgs/msg/Goals"
     _fields_and_field_types = {
         "header": "std_msgs/Header",
         "goals": "sequence<geometry_msgs/PoseStamped>",
@@ -202,7 +205,7 @@ class Goals(Message):
 class MapMetaData(Message):
     """``nav_msgs/MapMetaData``: grid size (cells), cell size (m) and the pose of cell (0, 0)."""
 
-    _type = "nav_msgs/msg/MapMetaData"
+    _type_name = "nav_msgs/msg/MapMetaData"
     _fields_and_field_types = {
         "map_load_time": "builtin_interfaces/Time",
         "resolution": "float",
@@ -224,7 +227,7 @@ class OccupancyGrid(Message):
     dtype=numpy.int8)`` views it without a copy.
     """
 
-    _type = "nav_msgs/msg/OccupancyGrid"
+    _type_name = "nav_msgs/msg/OccupancyGrid"
     _fields_and_field_types = {
         "header": "std_msgs/Header",
         "info": "nav_msgs/MapMetaData",
@@ -241,7 +244,7 @@ class OccupancyGrid(Message):
 class CostmapMetaData(Message):
     """``nav2_msgs/CostmapMetaData``: grid size (cells), cell size (m), origin, layer name."""
 
-    _type = "nav2_msgs/msg/CostmapMetaData"
+    _type_name = "nav2_msgs/msg/CostmapMetaData"
     _fields_and_field_types = {
         "map_load_time": "builtin_interfaces/Time",
         "update_time": "builtin_interfaces/Time",
@@ -267,7 +270,7 @@ class Costmap(Message):
     column ``i``, row ``j``.
     """
 
-    _type = "nav2_msgs/msg/Costmap"
+    _type_name = "nav2_msgs/msg/Costmap"
     _fields_and_field_types = {
         "header": "std_msgs/Header",
         "metadata": "nav2_msgs/CostmapMetaData",

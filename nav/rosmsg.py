@@ -6,7 +6,8 @@ A message class lists its fields as rosidl does, in ``_fields_and_field_types`` 
 the generated code does, raising ``AssertionError`` with rclpy's wording:
 
 * ``double``/``float`` take a Python ``float`` only (``msg.x = 1`` fails, as in rclpy);
-* integer types take an ``int`` within the type's range; ``boolean`` a ``bool``; ``string`` a ``str``;
+* integer types take an ``int`` within the type's range; ``boolean`` a ``bool``; ``string``
+  a ``str``;
 * a nested field takes an instance of its message class;
 * ``sequence<T>`` and ``T[N]``: numeric ones are stored as ``array.array`` (sequences) or a
   ``numpy`` array (fixed size), others as lists; any sequence of valid items is accepted.
@@ -129,7 +130,10 @@ def _sequence_check(item_kind: str, size: int | None) -> tuple[Check, Callable[[
 
     def checked_items(name: str, value: Any) -> list[Any]:
         if not _is_sequence(value):
-            _fail(f"The '{name}' field must be a set or sequence and each value of type '{shown_item}'")
+            _fail(
+                f"The '{name}' field must be a set or sequence and each value of type "
+                f"'{shown_item}'"
+            )
         if size is not None and len(value) != size:
             _fail(f"The '{name}' field must be a set or sequence with length {size}")
         items = value.tolist() if isinstance(value, np.ndarray) else list(value)
@@ -150,7 +154,9 @@ def _sequence_check(item_kind: str, size: int | None) -> tuple[Check, Callable[[
         def check_fixed(name: str, value: Any) -> np.ndarray:
             if isinstance(value, np.ndarray):
                 if value.dtype != dtype:
-                    _fail(f"The '{name}' numpy.ndarray() must have the dtype of '{np.dtype(dtype)}'")
+                    _fail(
+                        f"The '{name}' numpy.ndarray() must have the dtype of '{np.dtype(dtype)}'"
+                    )
                 if value.size != size:
                     _fail(f"The '{name}' numpy.ndarray() must have a size of {size}")
                 return value
@@ -218,7 +224,7 @@ class MessageMeta(type):
         fields: dict[str, str] = namespace.get("_fields_and_field_types", {})
         namespace["__slots__"] = tuple(f"_{field}" for field in fields)
         cls = super().__new__(mcls, name, bases, namespace)
-        if not fields and "_type" not in namespace:
+        if not fields and "_type_name" not in namespace:
             return cls  # the Message base itself
         defaults: dict[str, Any] = namespace.get("_defaults", {})
         factories: dict[str, Callable[[], Any]] = {}
@@ -231,14 +237,14 @@ class MessageMeta(type):
             else:
                 factories[field] = default
         cls._factories = factories  # type: ignore[attr-defined]
-        MESSAGE_TYPES[namespace["_type"]] = cls  # type: ignore[assignment]
+        MESSAGE_TYPES[namespace["_type_name"]] = cls  # type: ignore[assignment]
         return cls
 
 
 class Message(metaclass=MessageMeta):
     """Base of every message class; see the module docstring."""
 
-    _type: ClassVar[str]
+    _type_name: ClassVar[str]
     """The ROS type name, ``"geometry_msgs/msg/Point"``."""
     _fields_and_field_types: ClassVar[dict[str, str]] = {}
     _defaults: ClassVar[dict[str, Any]] = {}
@@ -261,7 +267,7 @@ class Message(metaclass=MessageMeta):
         return dict(cls._fields_and_field_types)
 
     def __repr__(self) -> str:
-        package, _, name = self._type.partition("/msg/")
+        package, _, name = self._type_name.partition("/msg/")
         shown = ", ".join(f"{field}={getattr(self, field)!r}" for field in self._factories)
         return f"{package}.msg.{name}({shown})"
 

@@ -36,7 +36,7 @@ SimTimeSource = Callable[[], float]
 class TimeMsg(Message):
     """``builtin_interfaces/msg/Time``: a time point as whole seconds plus nanoseconds."""
 
-    _type = "builtin_interfaces/msg/Time"
+    _type_name = "builtin_interfaces/msg/Time"
     _fields_and_field_types = {"sec": "int32", "nanosec": "uint32"}
     sec: int
     nanosec: int
@@ -49,7 +49,7 @@ class DurationMsg(Message):
     (``-1.5 s`` is ``sec=-2, nanosec=500000000``), as rclpy writes it.
     """
 
-    _type = "builtin_interfaces/msg/Duration"
+    _type_name = "builtin_interfaces/msg/Duration"
     _fields_and_field_types = {"sec": "int32", "nanosec": "uint32"}
     sec: int
     nanosec: int

@@ -19,12 +19,22 @@ from baobab.sim.errors import BaobabError
 
 ROS_MODULES: tuple[str, ...] = (
     "rclpy",
+    "rclpy.callback_groups",
     "rclpy.clock",
     "rclpy.context",
     "rclpy.duration",
+    "rclpy.exceptions",
+    "rclpy.executors",
     "rclpy.logging",
     "rclpy.node",
+    "rclpy.parameter",
+    "rclpy.publisher",
+    "rclpy.qos",
+    "rclpy.subscription",
+    "rclpy.task",
     "rclpy.time",
+    "rclpy.timer",
+    "rclpy.utilities",
     "builtin_interfaces",
     "builtin_interfaces.msg",
     "std_msgs",
@@ -33,6 +43,19 @@ ROS_MODULES: tuple[str, ...] = (
     "geometry_msgs.msg",
     "nav_msgs",
     "nav_msgs.msg",
+    "sensor_msgs",
+    "sensor_msgs.msg",
+    "tf2_msgs",
+    "tf2_msgs.msg",
+    "rosgraph_msgs",
+    "rosgraph_msgs.msg",
+    "rcl_interfaces",
+    "rcl_interfaces.msg",
+    "tf2_ros",
+    "tf2_ros.buffer",
+    "tf2_ros.transform_listener",
+    "tf2_ros.transform_broadcaster",
+    "tf2_ros.static_transform_broadcaster",
     "nav2_msgs",
     "nav2_msgs.msg",
     "nav2_simple_commander",
@@ -45,7 +68,8 @@ _ROS_PACKAGES = frozenset(name.partition(".")[0] for name in ROS_MODULES)
 
 
 class UnsupportedRosFeatureError(BaobabError):
-    """A script used a part of ROS that baobab does not model (topics, services, spinning)."""
+    """A script used a part of ROS that baobab does not model (services, actions), or waited
+    on sim time where nothing advances it."""
 
 
 def _owned_by_ros_packages(module_name: str) -> bool:
