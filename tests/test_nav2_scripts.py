@@ -204,6 +204,54 @@ def test_example_nav_through_poses(capsys: pytest.CaptureFixture[str], recorded:
     assert not any(watch.touched for watch in recorded.contacts)
 
 
+def test_example_follow_path_keeps_to_its_smoothed_path(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "follow_path.py", "cafe") == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[-1] == "Goal succeeded!"
+    errors = [abs(float(e)) for e in re.findall(r"off the path: ([-+][\d.]+) m", out)]
+    assert errors and max(errors) < 0.15
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=1.16, y=-4.23)) <= 0.25
+    assert not any(watch.touched for watch in recorded.contacts)
+
+
+def test_example_recoveries_backs_up_spins_and_drives_home(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "recoveries.py", "cafe") == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[-1] == "Goal succeeded!"
+    backed = [float(d) for d in re.findall(r"Backing up: ([\d.]+) m", out)]
+    turned = [float(a) for a in re.findall(r"Spinning: ([\d.]+) rad", out)]
+    assert backed == sorted(backed) and 0.2 < backed[-1] <= 0.3
+    assert turned == sorted(turned) and 2.5 < turned[-1] <= 3.14
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=0.0, y=0.0)) <= 0.25
+
+
+def test_example_picking_delivers_from_the_kitchen(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "picking.py", "cafe") == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert "Got the order at the kitchen; taking it to table_3." in lines
+    assert lines[-1] == "Order delivered!"
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=0.792, y=-8.27)) <= 0.25
+
+
+def test_example_security_patrol_goes_there_and_back(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "security_patrol.py", "farm") == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert "Round 1 done, patrolling back." in lines and lines[-1] == "Patrol complete!"
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=-6.5, y=-4.2)) <= 0.25  # back at the start
+
+
 # --- the command line -----------------------------------------------------------------------
 
 SHOW_START = """\
