@@ -411,6 +411,30 @@ def bad_input_figures() -> list[Figure]:
     ]
 
 
+def ros_figures() -> list[Figure]:
+    """Issue 25: node code against the simulation (``baobab ros run``), loop real-time factor."""
+    report = _script_report("bench_ros.py", quiet=True)
+    command = "python bench/bench_ros.py"
+    return [
+        Figure(
+            "ros run: node-driven go-to-goal, walls world (loop RTF)",
+            report["go_to_goal"]["rtf_loop"],
+            "x",
+            50.0,
+            True,
+            command,
+        ),
+        Figure(
+            "ros run: Panda trajectory planner at 100 Hz (loop RTF)",
+            report["panda_planner"]["rtf_loop"],
+            "x",
+            10.0,
+            True,
+            command,
+        ),
+    ]
+
+
 def test_suite_figures() -> list[Figure]:
     """Figure 7: wall time of the whole test suite with two workers."""
     began = time.perf_counter()
@@ -430,6 +454,7 @@ SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "startup": startup_figures,
     "arm": arm_figures,
     "memory": memory_figures,
+    "ros": ros_figures,
 }
 OPTIONAL_SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "longrun": longrun_figures,

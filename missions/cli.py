@@ -60,10 +60,16 @@ def main(argv: Sequence[str] | None = None) -> int:
                 file=sys.stderr,
             )
             return EXIT_INVALID
+    # `baobab ros run NODE.py -- --ros-args ...`: what follows a lone `--` is the nodes'.
+    passthrough: list[str] = []
+    if command == "ros" and "--" in arguments:
+        at = arguments.index("--")
+        arguments, passthrough = arguments[:at], arguments[at + 1 :]
     try:
         args = parser.parse_args(arguments)
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
         return int(exit_.code or 0)
+    args.passthrough = passthrough
     handler: Handler = args.handler
     signals_for(args.command)
     try:
@@ -508,6 +514,18 @@ def _nav2(args: argparse.Namespace) -> int:
     return nav2_command(args)
 
 
+def _configure_ros(parser: argparse.ArgumentParser) -> None:
+    from baobab.missions.ros_command import configure_ros
+
+    configure_ros(parser)
+
+
+def _ros(args: argparse.Namespace) -> int:
+    from baobab.missions.ros_command import ros_command
+
+    return ros_command(args)
+
+
 def _not_yet(args: argparse.Namespace) -> int:
     print(f"baobab {args.command}: not available yet", file=sys.stderr)
     return EXIT_INVALID
@@ -522,5 +540,6 @@ COMMANDS: dict[str, tuple[Callable[[argparse.ArgumentParser], None], Handler, st
     "teleop": (_configure_teleop, _teleop, "drive with the keyboard, assisted teleop on"),
     "campaign": (_configure_campaign, _campaign, "seeded sweeps of a mission, in parallel"),
     "nav2": (_configure_nav2, _nav2, "run a Nav2 Simple Commander script"),
+    "ros": (_configure_ros, _ros, "run rclpy node files or a launch file on sim time"),
 }
 """Subcommand name -> (argument setup, handler, one-line help)."""

@@ -164,7 +164,7 @@ def _sequence_check(item_kind: str, size: int | None) -> tuple[Check, Callable[[
 
         return check_fixed, lambda: np.zeros(size, dtype=dtype)
     if numeric is not None:
-        code = _FLOATS[item_kind][1] if item_kind in _FLOATS else numeric[2]
+        code: str = _FLOATS[item_kind][1] if item_kind in _FLOATS else _INTEGERS[item_kind][2]
 
         def check_array(name: str, value: Any) -> array[Any]:
             if isinstance(value, array):
@@ -205,6 +205,10 @@ def field_check(kind: str) -> tuple[Check, Callable[[], Any]]:
     raise TypeError(f"unsupported field type {kind!r}")
 
 
+def _constant(value: Any) -> Callable[[], Any]:
+    return lambda: value
+
+
 def _field_property(name: str, check: Check) -> property:
     slot = f"_{name}"
 
@@ -232,8 +236,7 @@ class MessageMeta(type):
             check, default = field_check(kind)
             setattr(cls, field, _field_property(field, check))
             if field in defaults:
-                value = defaults[field]
-                factories[field] = lambda value=value: value
+                factories[field] = _constant(defaults[field])
             else:
                 factories[field] = default
         cls._factories = factories  # type: ignore[attr-defined]
@@ -285,12 +288,83 @@ class Message(metaclass=MessageMeta):
 
     __hash__ = None  # type: ignore[assignment]
 
+    def __deepcopy__(self, memo: dict[int, Any]) -> Message:
+        """A copy sharing nothing mutable with this message (fields are already checked)."""
+        new = object.__new__(type(self))
+        for field in self._factories:
+            object.__setattr__(new, f"_{field}", _copied(getattr(self, field)))
+        return new
+
     def __getstate__(self) -> dict[str, Any]:
         return {field: getattr(self, field) for field in self._factories}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         for field, value in state.items():
             object.__setattr__(self, f"_{field}", value)
+
+
+def _copied(value: Any) -> Any:
+    if isinstance(value, Message):
+        return value.__deepcopy__({})
+    if isinstance(value, list):
+        return [_copied(item) for item in value]
+    if isinstance(value, array):
+        return array(value.typecode, value)
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    return value
+
+
+class MessageFieldError(ValueError):
+    """Values that do not fit a message (:func:`fill_message`): says which field and why."""
+
+
+def fill_message(message: Message, values: Any, path: str = "") -> Message:
+    """Set ``message``'s fields from plain values (a YAML mapping), as ``ros2 topic pub`` does:
+    nested mappings fill nested messages, and a number fills a float field (``x: 1``).
+
+    Raises:
+        MessageFieldError: an unknown field, or a value its field does not take.
+    """
+    if values is None:
+        return message
+    if not isinstance(values, dict):
+        raise MessageFieldError(f"{path or 'the message'}: expected a mapping of field values")
+    fields = message.get_fields_and_field_types()
+    for name, value in values.items():
+        where = f"{path}.{name}" if path else str(name)
+        if name not in fields:
+            known = ", ".join(fields) or "none"
+            raise MessageFieldError(
+                f"{where}: {type(message).__name__} has no such field (fields: {known})"
+            )
+        kind = fields[name]
+        current = getattr(message, name)
+        try:
+            if isinstance(current, Message):
+                fill_message(current, value, where)
+                continue
+            if (
+                kind in ("double", "float")
+                and isinstance(value, int)
+                and not isinstance(value, bool)
+            ):
+                value = float(value)
+            elif kind.startswith("sequence<") and "/" in kind and isinstance(value, list):
+                item_class = message_class(kind[len("sequence<") : -1].partition(",")[0])
+                value = [
+                    fill_message(item_class(), item, f"{where}[{i}]")
+                    for i, item in enumerate(value)
+                ]
+            elif isinstance(value, list) and any(word in kind for word in ("double", "float")):
+                value = [
+                    float(item) if isinstance(item, int) and not isinstance(item, bool) else item
+                    for item in value
+                ]
+            setattr(message, name, value)
+        except AssertionError as exc:
+            raise MessageFieldError(f"{where}: {exc}") from None
+    return message
 
 
 def message_class(type_name: str) -> type[Message]:

@@ -1,4 +1,5 @@
-"""Stand-ins for the ROS 2 Python modules a Nav2 Simple Commander script imports.
+"""Stand-ins for the ROS 2 Python modules rclpy nodes and Nav2 Simple Commander scripts import,
+and the runtime that runs such nodes on simulation time (:mod:`.runtime`).
 
 Each subpackage mirrors one ROS package: ``baobab.nav.ros.rclpy.duration`` is what a script
 gets for ``rclpy.duration``, ``baobab.nav.ros.geometry_msgs.msg`` for ``geometry_msgs.msg``,
@@ -73,8 +74,25 @@ ROS_MODULES: tuple[str, ...] = (
     "nav2_simple_commander.robot_navigator",
     "nav2_simple_commander.utils",
     "robot_navigator",
+    "pynput",
+    "pynput.keyboard",
 )
 """The ROS module names the shims provide; ``name`` is served by ``baobab.nav.ros.<name>``."""
+
+RUNTIME_MODULES: tuple[str, ...] = (
+    "actors",
+    "arguments",
+    "bringup",
+    "graph",
+    "node_files",
+    "parameters",
+    "qos",
+    "runtime",
+    "sim_topics",
+    "tf_tree",
+    "waiting",
+)
+"""baobab's own modules here, which run the ROS modules (not served under a ROS name)."""
 
 _ROS_PACKAGES = frozenset(name.partition(".")[0] for name in ROS_MODULES)
 

@@ -70,6 +70,8 @@ class Actor:
         self.interrupts = 0
         self.canceled = False
         self.thread: threading.Thread | None = None
+        self.rclpy_context: object = None
+        """The default rclpy context of a node file's actor (set by the runtime)."""
         self._go = threading.Semaphore(0)
 
     def runnable(self, now_ns: int) -> bool:
@@ -272,9 +274,9 @@ def cooperative_threads(scheduler: Scheduler) -> Iterator[None]:
         deadline = None if timeout is None else scheduler._now_ns() + round(timeout * 1e9)
         scheduler.block(deadline, lambda: target.state is ActorState.DONE)
 
-    time.sleep = sleep
-    threading.Thread.start = start  # type: ignore[method-assign]
-    threading.Thread.join = join  # type: ignore[method-assign]
+    time.sleep = sleep  # type: ignore[assignment]
+    threading.Thread.start = start  # type: ignore[method-assign,assignment]
+    threading.Thread.join = join  # type: ignore[method-assign,assignment]
     try:
         yield
     finally:

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 from baobab.nav.ros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 if TYPE_CHECKING:
-    from baobab.nav.rosmsg import Message
+    pass
 
 Tap = Callable[[str, Any], None]
 """Called with (topic name, message) for each message published on a topic."""
@@ -126,7 +126,7 @@ class Graph:
             return False
         return True
 
-    def publish(self, publisher: Endpoint, message: Message, *, fresh: bool = False) -> None:
+    def publish(self, publisher: Endpoint, message: Any, *, fresh: bool = False) -> None:
         """Deliver ``message`` to the subscriptions that match ``publisher``.
 
         Args:

@@ -29,7 +29,7 @@ from baobab.nav.ros.rclpy.exceptions import (
     ParameterNotDeclaredException,
     ParameterUninitializedException,
 )
-from baobab.nav.ros.rclpy.parameter import Parameter
+from baobab.nav.ros.rclpy.parameter import Parameter, ParameterType
 
 SetCallback = Callable[[list[Parameter]], SetParametersResult]
 """An on-set parameters callback: the parameters about to be set -> accept or refuse."""
@@ -108,7 +108,7 @@ class ParameterStore:
         return parameter
 
     def _typed(
-        self, name: str, value: Any, declared: Parameter.Type, descriptor: ParameterDescriptor
+        self, name: str, value: Any, declared: ParameterType, descriptor: ParameterDescriptor
     ) -> Parameter:
         if value is None:
             return Parameter(name, Parameter.Type.NOT_SET)

@@ -17,6 +17,7 @@ files, world and seed give the same messages at the same sim times.
 
 from __future__ import annotations
 
+import hashlib
 import heapq
 import itertools
 import sys
@@ -28,7 +29,9 @@ from typing import TYPE_CHECKING, Any
 from baobab.nav.ros import ros_shims, waiting
 from baobab.nav.ros.actors import Actor, Scheduler, cooperative_threads
 from baobab.nav.ros.graph import Graph
+from baobab.nav.ros.pynput.keyboard import VirtualKeyboard, use_keyboard
 from baobab.nav.ros.qos import QoSProfile
+from baobab.nav.rosmsg import to_plain
 from baobab.nav.rostime import S_TO_NS, set_sim_time_source
 
 if TYPE_CHECKING:
@@ -52,10 +55,11 @@ class SimSource:
 
 @dataclass(frozen=True)
 class NodeFailure:
-    """An actor whose code raised: which, and the exception."""
+    """An actor whose code raised: which, the exception, and the nodes its code had made."""
 
     actor: Actor
     error: BaseException
+    node_names: tuple[str, ...] = ()
 
 
 @dataclass
@@ -110,6 +114,10 @@ class RosRuntime:
         self._events: list[tuple[int, int, Callable[[], None]]] = []
         self._order = itertools.count()
         self._contexts: list[Any] = []
+        self.keyboard = VirtualKeyboard()
+        """The keyboard ``pynput`` listeners of node code hear (:meth:`VirtualKeyboard.press`)."""
+        self._digest = hashlib.sha256()
+        self.graph.tap(None, self._trace)
 
     # -- time -------------------------------------------------------------------------------
 
@@ -161,6 +169,19 @@ class RosRuntime:
         """Run ``action()`` (in the loop, before node code) once sim time reaches ``time_s``."""
         heapq.heappush(self._events, (round(time_s * S_TO_NS), next(self._order), action))
 
+    def publish_at(
+        self, time_s: float, topic: str, message: Any, qos: QoSProfile | None = None
+    ) -> None:
+        """Publish ``message`` on ``topic`` once sim time reaches ``time_s`` (an injected
+        message, as ``ros2 topic pub --once`` sends one)."""
+        publisher = self.advertise(topic, type(message), qos or QoSProfile(depth=10))
+        self.at(time_s, lambda: self.graph.publish(publisher, message))
+
+    def node_names(self, actor: Actor) -> list[str]:
+        """The names of the nodes ``actor``'s code created (in its rclpy context)."""
+        context = getattr(actor, "rclpy_context", None)
+        return [] if context is None else context.node_names()
+
     def publish(self, publisher: Any, message: Any) -> None:
         """Publish ``message`` from the simulation's ``publisher`` (it is not copied)."""
         self.graph.publish(publisher, message, fresh=True)
@@ -197,6 +218,15 @@ class RosRuntime:
         later = [time for time in candidates if time > now]
         return min(later) if later else now + self._step_ns
 
+    def _trace(self, topic: str, message: Any) -> None:
+        self._digest.update(f"{self.now_ns()} {topic} {to_plain(message)}\n".encode())
+
+    @property
+    def trace_digest(self) -> str:
+        """sha256 over every message published so far on a topic something reads (with its sim
+        time and topic): the same node files, world and seed give the same digest."""
+        return self._digest.hexdigest()
+
     # -- node code --------------------------------------------------------------------------
 
     @contextmanager
@@ -207,6 +237,8 @@ class RosRuntime:
             stack.enter_context(cooperative_threads(self.scheduler))
             set_sim_time_source(lambda: self.now_ns() / S_TO_NS)
             waiting.set_run(self.scheduler, self.graph)
+            use_keyboard(self.keyboard)
+            stack.callback(use_keyboard, None)
             stack.callback(waiting.set_run, None, None)
             stack.callback(set_sim_time_source, None)
             yield self
@@ -219,7 +251,11 @@ class RosRuntime:
         from baobab.nav.ros.rclpy.context import set_fresh_default_context
 
         def body() -> None:
-            self._contexts.append(set_fresh_default_context())
+            context = set_fresh_default_context()
+            self._contexts.append(context)
+            actor = self.scheduler.current()
+            if actor is not None:
+                actor.rclpy_context = context
             main()
 
         return self.scheduler.spawn(body, name=name, argv=argv, origin=origin)
@@ -240,7 +276,7 @@ class RosRuntime:
                 failed = self.scheduler.run_ready()
                 if failed is not None:
                     assert failed.error is not None
-                    failures.append(NodeFailure(failed, failed.error))
+                    failures.append(self._failure(failed, failed.error))
                     break
                 if now >= end or not self.scheduler.live:
                     break
@@ -248,7 +284,7 @@ class RosRuntime:
         finally:
             self.scheduler.end_all()
             failures.extend(
-                NodeFailure(actor, actor.error)
+                self._failure(actor, actor.error)
                 for actor in self.scheduler.actors
                 if actor.error is not None
                 and not isinstance(actor.error, KeyboardInterrupt)
@@ -256,6 +292,9 @@ class RosRuntime:
             )
             self._shut_down_contexts()
         return RunEnd(self.now_ns() / S_TO_NS, failures)
+
+    def _failure(self, actor: Actor, error: BaseException) -> NodeFailure:
+        return NodeFailure(actor, error, tuple(self.node_names(actor)))
 
     def _shut_down_contexts(self) -> None:
         """Destroy what node code left: the nodes of each node file's context."""

@@ -11,6 +11,8 @@ wait forever raises :class:`~baobab.nav.ros.UnsupportedRosFeatureError`.
 
 from __future__ import annotations
 
+from typing import Any
+
 from baobab.nav.ros import waiting
 from baobab.nav.ros.rclpy import (
     callback_groups,
@@ -104,7 +106,7 @@ def create_node(
     *,
     context: Context | None = None,
     namespace: str | None = None,
-    **options: object,
+    **options: Any,
 ) -> Node:
     """A new :class:`~baobab.nav.ros.rclpy.node.Node`, as ``rclpy.create_node`` makes one."""
     return Node(node_name, context=context, namespace=namespace, **options)
@@ -142,7 +144,13 @@ def spin_once(
 
 
 def spin(node: Node, executor: Executor | None = None) -> None:
-    """Run the node's callbacks until the context shuts down (or the run ends)."""
+    """Run the node's callbacks until the context shuts down (or the run ends).
+
+    Raises:
+        UnsupportedRosFeatureError: outside a run, where nothing would ever wake it.
+    """
+    if not waiting.can_wait():
+        waiting.wait(None, None, what="rclpy.spin()")
     _executor_for(node, executor).spin()
 
 

@@ -22,6 +22,10 @@ class TrackedNode(Protocol):
         """Release the node."""
         ...
 
+    def get_name(self) -> str:
+        """The node's name."""
+        ...
+
 
 class Context:
     """One init/shutdown lifecycle; nodes created in it are destroyed when it shuts down.
@@ -120,6 +124,10 @@ class Context:
         # navigators in a loop must not pile them up.
         self._nodes = [reference for reference in self._nodes if reference() is not None]
         self._nodes.append(weakref.ref(node))
+
+    def node_names(self) -> list[str]:
+        """The names of the context's live nodes, in creation order."""
+        return [node.get_name() for ref in self._nodes if (node := ref()) is not None]
 
     def untrack_node(self, node: TrackedNode) -> None:
         """Forget ``node`` (it was destroyed on its own)."""

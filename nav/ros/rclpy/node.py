@@ -363,7 +363,12 @@ class Node:
         if self._destroyed:
             return
         self._destroyed = True
-        for entity in (*self._publishers, *self._subscriptions, *self._timers):
+        entities: list[Publisher | Subscription | Timer] = [
+            *self._publishers,
+            *self._subscriptions,
+            *self._timers,
+        ]
+        for entity in entities:
             entity.destroy()
         self._publishers, self._subscriptions, self._timers = [], [], []
         if self.executor is not None:

@@ -8,10 +8,10 @@ from typing import Any
 
 from baobab.nav.ros.rcl_interfaces.msg import ParameterValue
 
-__all__ = ["Parameter", "parameter_value_to_python"]
+__all__ = ["Parameter", "ParameterType", "parameter_value_to_python"]
 
 
-class _Type(IntEnum):
+class ParameterType(IntEnum):
     NOT_SET = 0
     BOOL = 1
     INTEGER = 2
@@ -24,7 +24,7 @@ class _Type(IntEnum):
     STRING_ARRAY = 9
 
     @classmethod
-    def from_parameter_value(cls, value: Any) -> _Type:
+    def from_parameter_value(cls, value: Any) -> ParameterType:
         """The type rclpy infers from a Python value (an empty list is a BYTE_ARRAY, as there).
 
         Raises:
@@ -49,10 +49,10 @@ class _Type(IntEnum):
 
     def check(self, value: Any) -> bool:
         """True when ``value`` is of this type."""
-        if self is _Type.NOT_SET:
+        if self is ParameterType.NOT_SET:
             return value is None
         try:
-            inferred = _Type.from_parameter_value(value)
+            inferred = ParameterType.from_parameter_value(value)
         except TypeError:
             return False
         if inferred is self:
@@ -65,12 +65,12 @@ class _Type(IntEnum):
         )
 
 
-_ARRAY_ITEMS: dict[_Type, type] = {
-    _Type.BYTE_ARRAY: bytes,
-    _Type.BOOL_ARRAY: bool,
-    _Type.INTEGER_ARRAY: int,
-    _Type.DOUBLE_ARRAY: float,
-    _Type.STRING_ARRAY: str,
+_ARRAY_ITEMS: dict[ParameterType, type] = {
+    ParameterType.BYTE_ARRAY: bytes,
+    ParameterType.BOOL_ARRAY: bool,
+    ParameterType.INTEGER_ARRAY: int,
+    ParameterType.DOUBLE_ARRAY: float,
+    ParameterType.STRING_ARRAY: str,
 }
 
 
@@ -81,15 +81,15 @@ def _is_item(item: Any, item_type: type) -> bool:
 
 
 _VALUE_FIELDS = {
-    _Type.BOOL: "bool_value",
-    _Type.INTEGER: "integer_value",
-    _Type.DOUBLE: "double_value",
-    _Type.STRING: "string_value",
-    _Type.BYTE_ARRAY: "byte_array_value",
-    _Type.BOOL_ARRAY: "bool_array_value",
-    _Type.INTEGER_ARRAY: "integer_array_value",
-    _Type.DOUBLE_ARRAY: "double_array_value",
-    _Type.STRING_ARRAY: "string_array_value",
+    ParameterType.BOOL: "bool_value",
+    ParameterType.INTEGER: "integer_value",
+    ParameterType.DOUBLE: "double_value",
+    ParameterType.STRING: "string_value",
+    ParameterType.BYTE_ARRAY: "byte_array_value",
+    ParameterType.BOOL_ARRAY: "bool_array_value",
+    ParameterType.INTEGER_ARRAY: "integer_array_value",
+    ParameterType.DOUBLE_ARRAY: "double_array_value",
+    ParameterType.STRING_ARRAY: "string_array_value",
 }
 
 
@@ -106,13 +106,14 @@ class Parameter:
         ValueError: ``value`` is not of type ``type_``.
     """
 
-    Type = _Type
+    Type = ParameterType
+    """The parameter types (``Parameter.Type.DOUBLE``, ...)."""
 
-    def __init__(self, name: str, type_: _Type | None = None, value: Any = None) -> None:
+    def __init__(self, name: str, type_: ParameterType | None = None, value: Any = None) -> None:
         if type_ is None:
-            type_ = _Type.from_parameter_value(value)
-        if not isinstance(type_, _Type):
-            raise TypeError(f"type must be an instance of '{_Type!r}'")
+            type_ = ParameterType.from_parameter_value(value)
+        if not isinstance(type_, ParameterType):
+            raise TypeError(f"type must be an instance of '{ParameterType!r}'")
         if not type_.check(value):
             raise ValueError(f"Type '{type_}' and value '{value}' do not agree")
         self._name = name
@@ -125,7 +126,7 @@ class Parameter:
         return self._name
 
     @property
-    def type_(self) -> _Type:
+    def type_(self) -> ParameterType:
         """The parameter's type."""
         return self._type_
 
@@ -152,5 +153,5 @@ class Parameter:
 
 def parameter_value_to_python(value: ParameterValue) -> Any:
     """The Python value a ``ParameterValue`` message holds (None when not set)."""
-    kind = _Type(value.type)
-    return None if kind is _Type.NOT_SET else getattr(value, _VALUE_FIELDS[kind])
+    kind = ParameterType(value.type)
+    return None if kind is ParameterType.NOT_SET else getattr(value, _VALUE_FIELDS[kind])

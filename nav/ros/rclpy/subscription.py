@@ -98,15 +98,18 @@ class Subscription:
 
 
 def _takes_two_arguments(callback: Callable[..., Any]) -> bool:
+    """True when ``callback`` cannot take the message alone but takes it with its info (how
+    rclpy decides whether to pass a ``MessageInfo``)."""
     try:
-        parameters = inspect.signature(callback).parameters.values()
+        signature = inspect.signature(callback)
     except (TypeError, ValueError):
         return False
-    positional = [
-        item
-        for item in parameters
-        if item.kind in (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)
-    ]
-    return len(positional) >= 2 or any(
-        item.kind is inspect.Parameter.VAR_POSITIONAL for item in parameters
-    )
+    try:
+        signature.bind(object())
+    except TypeError:
+        try:
+            signature.bind(object(), object())
+        except TypeError:
+            return False
+        return True
+    return False
