@@ -11,14 +11,16 @@ services, costmaps and maps in :mod:`baobab.nav.navigator`.
 from __future__ import annotations
 
 import enum
+import math
 from collections.abc import Callable
 from pathlib import Path as FilePath
 
 from baobab.nav import msgs
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
 from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot
+from baobab.nav.navigator_time import NavigatorWaits
 from baobab.nav.ros.rclpy.node import Node
-from baobab.nav.rostime import Clock, ClockType, set_sim_time_source
+from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
 from baobab.nav.server import NavigationServer, build_navigation
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
@@ -95,6 +97,8 @@ class NavigatorCore(Node):
         self._alive = True
         self.initial_pose = msgs.PoseStamped(header=msgs.Header(frame_id="map"))
         set_sim_time_source(self._sim_seconds)
+        self._waits = NavigatorWaits(self._advance, lambda: round(self._sim_seconds() * S_TO_NS))
+        self._waits.register()
 
     # -- the simulation -----------------------------------------------------------------------
 
@@ -111,11 +115,11 @@ class NavigatorCore(Node):
         return self._server
 
     def _advance(self, horizon: float, until: Callable[[], bool] | None = None) -> None:
-        """Step the simulation up to ``horizon`` sim seconds, in :data:`POLL_SLICE` slices,
-        stopping early once ``until()`` is true."""
+        """Step the simulation ``horizon`` sim seconds (rounded up to whole physics steps), in
+        :data:`POLL_SLICE` slices, stopping early once ``until()`` is true."""
         self._live_server()
         sim = self._rig.sim
-        end = sim.step_count + max(round(horizon / sim.physics_dt), 0)
+        end = sim.step_count + max(math.ceil(horizon / sim.physics_dt - 1e-9), 0)
         slice_steps = max(round(POLL_SLICE / sim.physics_dt), 1)
         while sim.step_count < end:
             sim.step_to(min(sim.step_count + slice_steps, end))
@@ -151,6 +155,7 @@ class NavigatorCore(Node):
             self._alive = False
             self._server.close()
             set_sim_time_source(None)
+            self._waits.unregister()
         super().destroy_node()
 
     def destroyNode(self) -> None:
