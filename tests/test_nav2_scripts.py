@@ -252,6 +252,21 @@ def test_example_security_patrol_goes_there_and_back(
     assert distance(recorded.final_pose, Pose2D(x=-6.5, y=-4.2)) <= 0.25  # back at the start
 
 
+def test_example_assisted_teleop_stops_short_of_the_wall_while_the_script_sleeps(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "assisted_teleop.py", "walls") == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[-1] == "Assisted teleop succeeded!"
+    durations = [float(d) for d in re.findall(r"Teleop for ([\d.]+) s", "\n".join(lines))]
+    # Each poll: isTaskComplete's 0.1 s, then time.sleep(0.2) of sim time.
+    assert durations[1] - durations[0] == pytest.approx(0.3)
+    assert 12.0 <= recorded.sim_time < 12.6
+    assert recorded.final_pose is not None
+    assert 0.6 < recorded.final_pose.x < 1.15 - 0.105  # driven, stopped short of wall_east
+    assert not any(watch.touched for watch in recorded.contacts)
+
+
 # --- the command line -----------------------------------------------------------------------
 
 SHOW_START = """\
