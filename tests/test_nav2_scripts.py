@@ -267,6 +267,50 @@ def test_example_assisted_teleop_stops_short_of_the_wall_while_the_script_sleeps
     assert not any(watch.touched for watch in recorded.contacts)
 
 
+ROUTE_SCRIPT = """\
+import rclpy
+from geometry_msgs.msg import PoseStamped
+from nav2_simple_commander.robot_navigator import BasicNavigator, RunningTask, TaskResult
+from nav2_simple_commander.utils import euler_to_quaternion
+
+
+def pose(navigator, x, y, yaw):
+    p = PoseStamped()
+    p.header.frame_id = "map"
+    p.header.stamp = navigator.get_clock().now().to_msg()
+    p.pose.position.x, p.pose.position.y = x, y
+    p.pose.orientation = euler_to_quaternion(0.0, 0.0, yaw)
+    return p
+
+
+rclpy.init()
+navigator = BasicNavigator()
+navigator.declare_parameter("start", [0.0, 0.0, 0.0])
+navigator.declare_parameter("goal", [2.0, 1.0, 0.0])
+start = navigator.get_parameter("start").value
+goal = navigator.get_parameter("goal").value
+navigator.waitUntilNav2Active()
+task = navigator.getAndTrackRoute(pose(navigator, *start), pose(navigator, *goal))
+while not navigator.isTaskComplete(task=RunningTask.COMPUTE_AND_TRACK_ROUTE):
+    feedback = navigator.getFeedback(task=RunningTask.COMPUTE_AND_TRACK_ROUTE)
+print(task, navigator.getTaskError()[0], navigator.getResult().name)
+navigator.lifecycleShutdown()
+"""
+
+
+def test_a_rolling_route_script_runs_and_its_route_task_fails_cleanly(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    script = tmp_path / "route.py"
+    script.write_text(ROUTE_SCRIPT, encoding="utf-8")
+    assert run(script, "walls") == 0  # imports nav2_simple_commander.utils, reads parameters
+    captured = capsys.readouterr()
+    assert captured.out == "None 400 UNKNOWN\n"  # ComputeAndTrackRoute's UNKNOWN: no server
+    assert "'ComputeAndTrackRoute' action server ('compute_and_track_route') not available" in (
+        captured.err
+    )
+
+
 # --- the command line -----------------------------------------------------------------------
 
 SHOW_START = """\
