@@ -20,9 +20,9 @@ Each run happens in a copy of the caller's ``contextvars`` context and inside
 :func:`~baobab.nav.ros.ros_shims`, so defaults, sim-time sources, rclpy state and the modules
 the script loaded from its own folder do not leak into the next run. The script's
 ``time.sleep`` advances sim time once it has a navigator, and, unless ``realtime`` is set,
-``time.time`` and ``time.monotonic`` read sim time (:mod:`baobab.nav.script_time`); ``rclpy.spin_once(timeout_sec=...)``,
-``Rate.sleep`` and a clock's ``sleep_for`` advance sim time in any case
-(:mod:`baobab.nav.navigator_time`).
+``time.time`` and ``time.monotonic`` read sim time (:mod:`baobab.nav.script_time`);
+``rclpy.spin_once(timeout_sec=...)``, ``Rate.sleep`` and a clock's ``sleep_for`` advance sim
+time in any case (:mod:`baobab.nav.navigator_time`).
 """
 
 from __future__ import annotations
