@@ -7,7 +7,7 @@ first sim instant to the end, node code, topics and physics included. The bare f
 fresh MjData of the same model with ``mj_step`` for the same sim time, right after the runs.
 
 Cases:
-* ``go_to_goal``: the seed's point-to-point node (examples/ros/point2point_nav.py), a 0.05 s
+* ``go_to_goal``: the seed's point-to-point node (missions/ros/point2point_nav.py), a 0.05 s
   timer reading TF, in the walls world; a goal at (2, 2) sent on /goal at 1 s; 25 s of sim time.
 * ``panda_planner``: the seed's trajectory planner (tests/ros_nodes/exercise_pose_publisher.py)
   publishing at 100 Hz to the Panda's impedance controller; a 3 s goal; 5 s of sim time.
@@ -27,7 +27,7 @@ import mujoco
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tests"))
 
-from ros_harness import EXAMPLES, ROS_NODES, run_node_files  # noqa: E402
+from ros_harness import BUNDLED_NODES, ROS_NODES, run_node_files  # noqa: E402
 
 from baobab.nav.ros.bringup import bring_up  # noqa: E402
 
@@ -83,7 +83,7 @@ def main() -> None:
     parser.add_argument("--output", type=Path, default=None)
     args = parser.parse_args()
     report = {
-        "go_to_goal": _case("turtlebot3", EXAMPLES / "point2point_nav.py", 25.0, before=_goal),
+        "go_to_goal": _case("turtlebot3", BUNDLED_NODES / "point2point_nav.py", 25.0, before=_goal),
         "panda_planner": _case(
             "panda",
             ROS_NODES / "exercise_pose_publisher.py",

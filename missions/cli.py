@@ -60,16 +60,16 @@ def main(argv: Sequence[str] | None = None) -> int:
                 file=sys.stderr,
             )
             return EXIT_INVALID
-    # `baobab ros run NODE.py -- --ros-args ...`: what follows a lone `--` is the nodes'.
-    passthrough: list[str] = []
-    if command == "ros" and "--" in arguments:
-        at = arguments.index("--")
-        arguments, passthrough = arguments[:at], arguments[at + 1 :]
+    extras: dict[str, list[str]] = {}
+    if command == "ros":  # `-- --ros-args ...` and `name:=value` words are not argparse's
+        from baobab.missions.ros_command import split_arguments
+
+        arguments, extras = split_arguments(arguments)
     try:
         args = parser.parse_args(arguments)
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
         return int(exit_.code or 0)
-    args.passthrough = passthrough
+    vars(args).update(extras)
     handler: Handler = args.handler
     signals_for(args.command)
     try:

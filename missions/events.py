@@ -25,6 +25,7 @@ from baobab.missions.schema import (
     Event,
     FaultEvent,
     MoveObstacleEvent,
+    PublishEvent,
     SpawnObstacleEvent,
     TeleopEvent,
 )
@@ -35,6 +36,7 @@ from baobab.sim.world import MOVABLE_SLOT_COUNT
 
 if TYPE_CHECKING:
     from baobab.missions.faults import FaultInjector
+    from baobab.nav.ros.mission_nodes import MissionNodes
 
 
 class EventError(BaobabError):
@@ -168,6 +170,11 @@ class TimedEvents:
         obstacles: where spawn and move events put obstacles (None for fixed robots).
         teleop: where teleop events put their command (None without teleop).
         faults: what injects fault events (None: a fault event raises EventError).
+        ros: where publish events send their messages (None: a publish event raises
+            EventError); every message is built and checked here, before the run.
+
+    Raises:
+        EventError: a publish event whose message type or fields do not fit.
     """
 
     def __init__(
@@ -176,6 +183,7 @@ class TimedEvents:
         obstacles: ObstacleSlots | None,
         teleop: TeleopChannel | None,
         faults: FaultInjector | None = None,
+        ros: MissionNodes | None = None,
     ) -> None:
         due = [_Due(event.at, index, event) for index, event in enumerate(events)]
         due += [
@@ -187,6 +195,12 @@ class TimedEvents:
         self.obstacles = obstacles
         self.teleop = teleop
         self.faults = faults
+        self.ros = ros
+        self._messages = {
+            index: _message(index, event)
+            for index, event in enumerate(events)
+            if isinstance(event, PublishEvent) and ros is not None
+        }
         self.canceled_by: CancelEvent | None = None
         """The cancel event that fired, if any."""
 
@@ -230,6 +244,11 @@ class TimedEvents:
             }
         if isinstance(event, FaultEvent):
             return self._fault(event, due.ends, record)
+        if isinstance(event, PublishEvent):
+            if self.ros is None:
+                raise EventError("publish events need a run with ROS topics")
+            self.ros.publish_at_once(_topic(event.publish.topic), self._messages[due.order])
+            return {"event": "publish", **record, "topic": event.publish.topic}
         if self.obstacles is None:
             raise EventError("obstacle events need a mobile robot in a 2D world")
         if isinstance(event, SpawnObstacleEvent):
@@ -262,3 +281,29 @@ class TimedEvents:
             return {"event": "fault_end", **record, "fault": kind}
         details = self.faults.start(event)
         return {"event": "fault", **record, "fault": kind, "duration": event.duration, **details}
+
+
+def _topic(name: str) -> str:
+    return name if name.startswith("/") else f"/{name}"
+
+
+def _message(index: int, event: PublishEvent) -> Any:
+    """The message of a publish event, built from its fields.
+
+    Raises:
+        EventError: an unknown message type, or fields that do not fit it.
+    """
+    from baobab.nav.ros import load_message_types
+    from baobab.nav.rosmsg import MessageFieldError, fill_message, message_class
+
+    load_message_types()
+    spec = event.publish
+    where = f"events[{index}].publish"
+    try:
+        message = message_class(spec.type)()
+    except KeyError:
+        raise EventError(f"{where}: unknown message type '{spec.type}'") from None
+    try:
+        return fill_message(message, spec.message)
+    except MessageFieldError as exc:
+        raise EventError(f"{where}.message: {exc}") from None

@@ -170,10 +170,12 @@ def default_registry() -> Registry:
         nodes_control,
         nodes_navigation,
         nodes_progress,
+        nodes_ros,
     )
 
     registry = Registry()
-    for module in (nodes_control, nodes_common, nodes_navigation, nodes_progress, nodes_arm):
+    modules = (nodes_control, nodes_common, nodes_navigation, nodes_progress, nodes_arm, nodes_ros)
+    for module in modules:
         module.register(registry)
     return registry
 

@@ -20,6 +20,7 @@ its nodes; 2 for a mistake in the command (one line, located where it can be).
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -30,6 +31,26 @@ from baobab.sim.errors import BaobabError, clip
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
 DEFAULT_DURATION = 60.0
 """Seconds of sim time a run lasts without ``--duration``."""
+
+
+_LAUNCH_ARGUMENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*:=")
+
+
+def split_arguments(arguments: list[str]) -> tuple[list[str], dict[str, list[str]]]:
+    """Take what argparse must not see out of a ``baobab ros`` command line: the words after a
+    lone ``--`` (the nodes' ``--ros-args``) and ``name:=value`` launch arguments, which
+    ``ros2 launch`` takes anywhere.
+
+    Returns:
+        The words for argparse, and ``passthrough`` and ``launch_arguments`` for the handler.
+    """
+    passthrough: list[str] = []
+    if "--" in arguments:
+        at = arguments.index("--")
+        arguments, passthrough = arguments[:at], arguments[at + 1 :]
+    launch = [word for word in arguments if _LAUNCH_ARGUMENT.match(word)]
+    rest = [word for word in arguments if not _LAUNCH_ARGUMENT.match(word)]
+    return rest, {"passthrough": passthrough, "launch_arguments": launch}
 
 
 class RosCommandError(BaobabError):
@@ -44,6 +65,30 @@ class NodeSpec:
     argv: list[str] = field(default_factory=list)
 
 
+RUN_HELP = """\
+Run rclpy node files unmodified against the simulation, on sim time, in one process: each
+file's main() (or its __main__ block). The robot is on ROS's topics (/cmd_vel, /odom, /tf,
+/scan, ...; the Panda's /cartesian_impedance/*).
+
+examples:
+  baobab ros run pub_node.py sub_node.py -- --ros-args -p timer_period:=0.5
+  baobab ros run point2point_nav.py --world walls --pub /goal geometry_msgs/msg/PoseStamped \\
+      "{header: {frame_id: odom}, pose: {position: {x: 2.0, y: 2.0}}}" --at 1 --echo /cmd_vel
+  baobab ros run keyboard_teleop.py --press w --at 1 --release w --at 3
+
+exit status: 0 when the run lasted --duration, 1 when node code raised (its traceback), 2
+for a mistake in the command."""
+
+LAUNCH_HELP = """\
+Run a Python launch file (LaunchDescription, DeclareLaunchArgument, LaunchConfiguration,
+IncludeLaunchDescription of a local file, LogInfo, launch_ros Node) against the simulation.
+
+example:
+  baobab ros launch exercise_pose_publisher.launch.py --robot panda \\
+      goal:="[3.0, 0.6, 0.2, 0.3, 1.0, 0.0, 0.0, 0.0]"
+"""
+
+
 class _Timed(argparse.Action):
     """``--pub``, ``--press`` and ``--release``: kept in order, each with the ``--at`` after it."""
 
@@ -55,7 +100,7 @@ class _Timed(argparse.Action):
 
 class _At(argparse.Action):
     def __call__(self, parser: Any, namespace: Any, values: Any, option: str | None = None) -> None:
-        events = getattr(namespace, "events", None)
+        events: list[dict[str, Any]] = getattr(namespace, "events", None) or []
         if not events:
             parser.error("--at must follow a --pub, --press or --release")
         try:
@@ -94,12 +139,22 @@ def _common(parser: argparse.ArgumentParser) -> None:
 def configure_ros(parser: argparse.ArgumentParser) -> None:
     """Declare ``baobab ros run`` and ``baobab ros launch``."""
     commands = parser.add_subparsers(dest="ros_command", required=True, metavar="{run,launch}")
-    run = commands.add_parser("run", help="run node files", description=__doc__)
+    run = commands.add_parser(
+        "run",
+        help="run node files",
+        description=RUN_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     run.add_argument("nodes", nargs="+", metavar="NODE.py", help="node files, then -- --ros-args")
     _common(run)
-    launch = commands.add_parser("launch", help="run a Python launch file")
+    launch = commands.add_parser(
+        "launch",
+        help="run a Python launch file",
+        usage="%(prog)s FILE.launch.py [name:=value ...] [options]",
+        description=LAUNCH_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     launch.add_argument("launch_file", metavar="FILE.launch.py")
-    launch.add_argument("arguments", nargs="*", metavar="name:=value", help="launch arguments")
     launch.add_argument("--show-args", action="store_true", help="list the launch arguments")
     _common(launch)
 
@@ -115,7 +170,7 @@ def ros_command(args: argparse.Namespace) -> int:
             return EXIT_OK
         specs = [
             NodeSpec(node.path, [*node.argv, *getattr(args, "passthrough", [])])
-            for node in nodes_of_launch_file(path, _launch_arguments(args.arguments))
+            for node in nodes_of_launch_file(path, _launch_arguments(args.launch_arguments))
         ]
         return run_nodes(args, specs)
     passthrough = list(getattr(args, "passthrough", []))

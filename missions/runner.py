@@ -183,7 +183,9 @@ def run_mission(
         params=mission.params,
         timeout=mission.timeout,
     )
-    events = TimedEvents(mission.events, rig.obstacles, rig.teleop, fault_injector(rig))
+    events = TimedEvents(
+        mission.events, rig.obstacles, rig.teleop, fault_injector(rig), ros=rig.ros
+    )
     options = recording or RecordingOptions()
     if viewer:
         options = replace(options, viewer=True)
@@ -205,6 +207,8 @@ def run_mission(
     try:
         outcome = loop.run()
     finally:
+        if rig.ros is not None:
+            rig.ros.close()
         if hook is not None:
             hook.close()
         # py_trees' blackboard is process-global: nothing a run wrote reaches the next one.

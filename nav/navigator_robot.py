@@ -98,7 +98,15 @@ def build_simulated_robot(robot: str, world: World, start: Pose2D, seed: int) ->
     from baobab.robots.turtlebot3 import BURGER, build_turtlebot3_sim  # MuJoCo: only to build
 
     check_free(world, start, BURGER.footprint_radius, what="start pose")
-    sim, turtlebot = build_turtlebot3_sim(world, start, seed=seed)
+    _, turtlebot = build_turtlebot3_sim(world, start, seed=seed)
+    return simulated_turtlebot3(turtlebot)
+
+
+def simulated_turtlebot3(turtlebot: Any) -> SimulatedRobot:
+    """The :class:`SimulatedRobot` view of a running Burger (a ``robots.turtlebot3.TurtleBot3``,
+    say the one a mission built)."""
+    from baobab.robots.turtlebot3 import BURGER
+
     base, names = turtlebot.base, turtlebot.names
 
     def odometry() -> tuple[Pose2D, float, float]:
@@ -107,7 +115,7 @@ def build_simulated_robot(robot: str, world: World, start: Pose2D, seed: int) ->
 
     left, right = names.wheel_joints
     return SimulatedRobot(
-        sim=sim,
+        sim=turtlebot.sim,
         base=base,
         lidar=turtlebot.lidar,
         footprint_radius=BURGER.footprint_radius,
@@ -166,13 +174,19 @@ def build_simulated_arm(robot: str, seed: int) -> SimulatedArm:
             f"unknown arm {robot!r}; the ROS runtime runs one of: {', '.join(ARM_MODELS)}"
         )
     # Like build_simulated_robot, the arm's import happens here, when one is asked for.
+    from baobab.robots.panda import build_panda_sim
+
+    sim, server = build_panda_sim(seed=seed)
+    return simulated_panda(sim, server)
+
+
+def simulated_panda(sim: Simulation, server: Any) -> SimulatedArm:
+    """The :class:`SimulatedArm` view of a running Panda (a ``robots.panda.ArmServer``)."""
     import numpy as np
 
-    from baobab.robots.panda import build_panda_sim
     from baobab.robots.panda.model import ARM_JOINTS, FINGER_JOINTS
     from baobab.robots.panda.quaternion import matrix_to_quaternion
 
-    sim, server = build_panda_sim(seed=seed)
     controller = server.controller
 
     def tcp_pose() -> tuple[Any, Any]:

@@ -9,7 +9,8 @@ from baobab.nav.ros.node_files import node_file_main, node_file_paths
 from baobab.nav.ros.runtime import RosRuntime, RunEnd
 
 ROS_NODES = Path(__file__).resolve().parent / "ros_nodes"
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "ros"
+BUNDLED_NODES = Path(__file__).resolve().parents[1] / "missions" / "ros"
+"""The reference nodes bundled with the ros_node example mission."""
 
 
 def write_nodes(folder: Path, sources: dict[str, str]) -> list[Path]:

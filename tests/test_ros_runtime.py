@@ -225,3 +225,38 @@ def test_the_same_node_files_give_the_same_trace_digest(tmp_path: Path) -> None:
     changed = RosRuntime()
     run_node_files(changed, paths[:1], 1.0)
     assert changed.trace_digest not in digests
+
+
+FUTURES = """\
+import rclpy
+from rclpy.node import Node
+from rclpy.task import Future
+
+def main():
+    rclpy.init()
+    node = Node('waiter')
+    now = lambda: node.get_clock().now().nanoseconds
+    done = Future()
+    node.create_timer(0.4, lambda: done.done() or done.set_result(now()))
+    rclpy.spin_until_future_complete(node, done, timeout_sec=0.1)
+    print('timed out', done.done(), now())
+    rclpy.spin_until_future_complete(node, done)
+    print('done', done.result(), now())
+    executor = rclpy.executors.SingleThreadedExecutor()
+    executor.add_node(node)
+    task = executor.create_task(lambda: 6 * 7)
+    executor.spin_until_future_complete(task, timeout_sec=1.0)
+    print('task', task.result(), now())
+"""
+
+
+def test_spin_until_future_complete_waits_on_sim_time_with_a_timeout(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    paths = write_nodes(tmp_path, {"futures.py": FUTURES})
+    assert run_node_files(RosRuntime(), paths, 2.0).failures == []
+    assert capsys.readouterr().out.splitlines() == [
+        "timed out False 100000000",
+        "done 400000000 400000000",
+        "task 42 400000000",
+    ]

@@ -9,12 +9,12 @@ from typing import Any
 
 import numpy as np
 import pytest
-from ros_harness import EXAMPLES, ROS_NODES, run_node_files, write_nodes
+from ros_harness import BUNDLED_NODES, ROS_NODES, run_node_files, write_nodes
 
 from baobab.nav.ros.bringup import Bringup, bring_up
 from baobab.nav.ros.runtime import RosRuntime, RunEnd
 
-POINT2POINT = EXAMPLES / "point2point_nav.py"
+POINT2POINT = BUNDLED_NODES / "point2point_nav.py"
 
 
 def goal(x: float, y: float) -> Any:

@@ -76,6 +76,15 @@ ROS_MODULES: tuple[str, ...] = (
     "robot_navigator",
     "pynput",
     "pynput.keyboard",
+    "launch",
+    "launch.actions",
+    "launch.substitutions",
+    "launch.launch_description_sources",
+    "launch_ros",
+    "launch_ros.actions",
+    "launch_ros.parameter_descriptions",
+    "ament_index_python",
+    "ament_index_python.packages",
 )
 """The ROS module names the shims provide; ``name`` is served by ``baobab.nav.ros.<name>``."""
 
@@ -84,6 +93,8 @@ RUNTIME_MODULES: tuple[str, ...] = (
     "arguments",
     "bringup",
     "graph",
+    "launch_files",
+    "mission_nodes",
     "node_files",
     "parameters",
     "qos",
@@ -100,6 +111,13 @@ _ROS_PACKAGES = frozenset(name.partition(".")[0] for name in ROS_MODULES)
 class UnsupportedRosFeatureError(BaobabError):
     """A script used a part of ROS that baobab does not model (services, actions), or waited
     on sim time where nothing advances it."""
+
+
+def load_message_types() -> None:
+    """Import every message module, so :func:`baobab.nav.rosmsg.message_class` knows them all."""
+    for name in ROS_MODULES:
+        if name.endswith(".msg"):
+            importlib.import_module(f"{__name__}.{name}")
 
 
 def _owned_by_ros_packages(module_name: str) -> bool:

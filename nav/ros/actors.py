@@ -72,6 +72,8 @@ class Actor:
         self.thread: threading.Thread | None = None
         self.rclpy_context: object = None
         """The default rclpy context of a node file's actor (set by the runtime)."""
+        self.parent: Actor | None = None
+        """The actor that started this one's thread, if any."""
         self._go = threading.Semaphore(0)
 
     def runnable(self, now_ns: int) -> bool:
@@ -118,6 +120,7 @@ class Scheduler:
         starter = self.current()
         assert starter is not None  # only called from an actor's thread
         actor = Actor(f"{starter.name}/{thread.name}", starter.argv, starter.origin)
+        actor.parent = starter
         context = contextvars.copy_context()
         run = thread.run
         thread.run = lambda: self._bootstrap(actor, context, run)  # type: ignore[method-assign]
@@ -132,7 +135,8 @@ class Scheduler:
         self, actor: Actor, context: contextvars.Context, target: Callable[[], object]
     ) -> None:
         actor._go.acquire()
-        self._by_thread[threading.get_ident()] = actor
+        ident = threading.get_ident()
+        self._by_thread[ident] = actor
         try:
             if not actor.canceled:
                 actor.state = ActorState.RUNNING
@@ -144,6 +148,7 @@ class Scheduler:
             actor.error = exc
         finally:
             actor.state = ActorState.DONE
+            del self._by_thread[ident]  # the system may give the identifier to a new thread
             self._back.release()
 
     def current(self) -> Actor | None:
@@ -235,15 +240,26 @@ class Scheduler:
 
     def end_all(self) -> None:
         """End every actor: interrupt the blocked ones (module docstring), cancel new ones."""
+        self._end(list(self.actors))
+
+    def end(self, actor: Actor) -> None:
+        """End ``actor`` and the actors its code started, as :meth:`end_all` ends them all."""
+        family = [actor]
+        for item in self.actors:
+            if item.parent in family:
+                family.append(item)
+        self._end(family)
+
+    def _end(self, actors: list[Actor]) -> None:
         for _ in range(3):
-            for actor in self.actors:
+            for actor in actors:
                 if actor.state is ActorState.NEW:
                     actor.canceled = True
                     self._resume(actor)
                 elif actor.state is ActorState.BLOCKED:
                     actor.interrupts = max(actor.interrupts, 1)
                     self._resume(actor)
-            if not self.live:
+            if all(actor.state is ActorState.DONE for actor in actors):
                 return
 
 

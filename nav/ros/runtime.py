@@ -260,6 +260,22 @@ class RosRuntime:
 
         return self.scheduler.spawn(body, name=name, argv=argv, origin=origin)
 
+    def serve(self) -> NodeFailure | None:
+        """One instant: publish what is due, then let node code that can go on run.
+
+        Returns:
+            The failure of node code that raised, if any (the actor has ended).
+        """
+        self._publish_due(self.now_ns())
+        failed = self.scheduler.run_ready()
+        if failed is None or failed.error is None:
+            return None
+        return self._failure(failed, failed.error)
+
+    def next_instant(self, end_ns: int) -> int:
+        """The sim time (ns) of the next instant something is due, at most ``end_ns``."""
+        return self._next_instant(self.now_ns(), end_ns)
+
     def run(self, duration: float) -> RunEnd:
         """Run for ``duration`` seconds of sim time, or until no node code is left, or until
         node code fails (call inside :meth:`active`).
@@ -271,16 +287,13 @@ class RosRuntime:
         failures: list[NodeFailure] = []
         try:
             while True:
-                now = self.now_ns()
-                self._publish_due(now)
-                failed = self.scheduler.run_ready()
-                if failed is not None:
-                    assert failed.error is not None
-                    failures.append(self._failure(failed, failed.error))
+                failure = self.serve()
+                if failure is not None:
+                    failures.append(failure)
                     break
-                if now >= end or not self.scheduler.live:
+                if self.now_ns() >= end or not self.scheduler.live:
                     break
-                self._advance_to(self._next_instant(now, end))
+                self._advance_to(self.next_instant(end))
         finally:
             self.scheduler.end_all()
             failures.extend(
@@ -290,13 +303,20 @@ class RosRuntime:
                 and not isinstance(actor.error, KeyboardInterrupt)
                 and all(failure.actor is not actor for failure in failures)
             )
-            self._shut_down_contexts()
+            self.shut_down_nodes()
         return RunEnd(self.now_ns() / S_TO_NS, failures)
+
+    def stop(self, actor: Actor) -> None:
+        """End one actor and the threads it started, and destroy the nodes its code made."""
+        self.scheduler.end(actor)
+        context = getattr(actor, "rclpy_context", None)
+        if context is not None:
+            context.try_shutdown()
 
     def _failure(self, actor: Actor, error: BaseException) -> NodeFailure:
         return NodeFailure(actor, error, tuple(self.node_names(actor)))
 
-    def _shut_down_contexts(self) -> None:
+    def shut_down_nodes(self) -> None:
         """Destroy what node code left: the nodes of each node file's context."""
         for context in self._contexts:
             context.try_shutdown()
