@@ -6,7 +6,7 @@ FollowObject is Rolling's (``nav2_msgs``; it started in ``opennav_following_msgs
 
 from __future__ import annotations
 
-from baobab.nav.errors import (
+from baobab.nav.future_server_errors import (
     ComputeAndTrackRouteError,
     ComputeRouteError,
     DockRobotError,
