@@ -99,6 +99,10 @@ class NavigatorCore(Node):
         set_sim_time_source(self._sim_seconds)
         self._waits = NavigatorWaits(self._advance, lambda: round(self._sim_seconds() * S_TO_NS))
         self._waits.register()
+        self._setup()
+
+    def _setup(self) -> None:
+        """Set up what a subclass adds, at the end of construction (each calls its super's)."""
 
     # -- the simulation -----------------------------------------------------------------------
 

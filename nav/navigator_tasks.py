@@ -9,7 +9,6 @@ from Nav2).
 from __future__ import annotations
 
 import enum
-from typing import Any
 
 from baobab.nav import msgs
 from baobab.nav.errors import (
@@ -39,8 +38,8 @@ class NavigatorTasks(NavigatorTracking):
     same without a publisher).
     """
 
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
+    def _setup(self) -> None:
+        super()._setup()
         for kind in (msgs.Twist, msgs.TwistStamped):
             self.create_subscription(kind, "cmd_vel_teleop", self.publishTeleop, 10, _internal=True)
         self.create_subscription(

@@ -18,7 +18,7 @@ from __future__ import annotations
 import enum
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Literal
 
 from baobab.nav.errors import NavigationError
 from baobab.nav.interfaces import FEEDBACK_KEY, FEEDBACK_QUEUE_KEY, RESULT_KEY
@@ -70,8 +70,8 @@ class TrackedGoal:
 class NavigatorTracking(NavigatorCore):
     """Task tracking for :class:`~baobab.nav.navigator.BasicNavigator` (module docstring)."""
 
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
+    def _setup(self) -> None:
+        super()._setup()
         self._goal: TrackedGoal | None = None
         self._route: TrackedGoal | None = None
         self._goals_sent = 0

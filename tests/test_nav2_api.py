@@ -132,6 +132,16 @@ ATTRIBUTES = (
 """The attributes Rolling's BasicNavigator sets in its constructor, which scripts read."""
 
 
+def test_the_constructor_takes_nav2s_arguments_and_baobabs_keyword_only() -> None:
+    parameters = list(inspect.signature(BasicNavigator).parameters.values())
+    assert [(p.name, p.default) for p in parameters[:2]] == [
+        ("node_name", "basic_navigator"),
+        ("namespace", ""),
+    ]
+    assert all(p.kind is p.KEYWORD_ONLY for p in parameters[2:])
+    assert [p.name for p in parameters[2:]] == ["world", "robot", "start", "seed", "realtime"]
+
+
 def test_the_method_table_holds_rollings_47_public_methods() -> None:
     assert len(METHODS) == 47
 
