@@ -435,6 +435,23 @@ def ros_figures() -> list[Figure]:
     ]
 
 
+def script_sleep_figures() -> list[Figure]:
+    """Issue 24: a Nav2 script sleeping 0.2 s per poll, against the same script without."""
+    report = _script_report("bench_script_sleeps.py", quiet=True)
+    sim = report["sleep_0.2"]["sim_s"]
+    return [
+        Figure(
+            f"nav2 script sleeping 0.2 s per poll over a {sim:.0f} s navigation, wall time / "
+            "without sleeps",
+            report["ratio"],
+            "ratio",
+            1.5,
+            False,
+            "python bench/bench_script_sleeps.py",
+        )
+    ]
+
+
 def test_suite_figures() -> list[Figure]:
     """Figure 7: wall time of the whole test suite with two workers."""
     began = time.perf_counter()
@@ -455,6 +472,7 @@ SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "arm": arm_figures,
     "memory": memory_figures,
     "ros": ros_figures,
+    "scripts": script_sleep_figures,
 }
 OPTIONAL_SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "longrun": longrun_figures,

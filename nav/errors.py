@@ -2,8 +2,11 @@
 
 Each Nav2 action has its own range of codes (reference/nav2.md §2): controller 1xx, planner 2xx,
 through-poses planner 3xx, smoother 5xx, waypoint follower 6xx, behaviours 7xx, navigators
-9000/9100. ``NONE = 0`` means success everywhere. When several actions failed during one
-navigation, Nav2 reports the numerically lowest non-zero code (:func:`reported_error_code`).
+9000/9100 (the route server's 4xx and the docking and following servers' 9xx are in
+:mod:`baobab.nav.future_server_errors` until those servers run). ``NONE = 0`` means success
+everywhere.
+When several actions failed during one navigation, Nav2 reports the numerically lowest non-zero
+code (:func:`reported_error_code`).
 """
 
 from __future__ import annotations
@@ -168,6 +171,19 @@ class NavigationError(BaobabError):
     def code_name(self) -> str:
         """The code's Nav2 name (``NO_VALID_PATH``), or its number when it has no name."""
         return self.code.name if isinstance(self.code, IntEnum) else str(int(self.code))
+
+
+class GoalRejectedError(BaobabError):
+    """A goal refused before any server works on it (the navigator's send returns None).
+
+    Attributes:
+        code: the action's error code for it; None means the action's UNKNOWN, which is what
+            Nav2's client reports for a rejected goal.
+    """
+
+    def __init__(self, message: str, code: IntEnum | None = None) -> None:
+        super().__init__(message)
+        self.code = code
 
 
 class CollisionAheadError(NavigationError):

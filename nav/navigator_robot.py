@@ -3,7 +3,10 @@
 The navigation server takes any :class:`~baobab.nav.interfaces.MobileBase` and
 :class:`~baobab.nav.interfaces.ScanSource`. The Nav2 facade is different, because a Nav2 script
 constructs ``BasicNavigator()`` and expects a robot to be there: :func:`build_simulated_robot`
-builds one from ``baobab.robots`` (the layer below ``nav``; robots never import nav).
+builds one from ``baobab.robots`` (the layer below ``nav``; robots never import nav). The ROS
+runtime's robots (:mod:`baobab.nav.ros.sim_topics`) come from here too: the same Burger with
+what its topics need (odometry, joints, fixed frames), and :func:`build_simulated_arm` for the
+Panda.
 
 Checking a pose (:func:`check_free`, :func:`pose_is_free`) loads no physics: ``baobab nav2``
 and ``baobab teleop`` refuse a blocked start before MuJoCo and the robot's compiled loop load,

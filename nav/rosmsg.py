@@ -270,9 +270,9 @@ class Message(metaclass=MessageMeta):
         return dict(cls._fields_and_field_types)
 
     def __repr__(self) -> str:
-        package, _, name = self._type_name.partition("/msg/")
+        package, kind, name = self._type_name.split("/")  # kind: msg, srv or action
         shown = ", ".join(f"{field}={getattr(self, field)!r}" for field in self._factories)
-        return f"{package}.msg.{name}({shown})"
+        return f"{package}.{kind}.{name}({shown})"
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, self.__class__):

@@ -313,6 +313,11 @@ def set_sim_time_source(source: SimTimeSource | None) -> None:
     _sim_time_source.set(source)
 
 
+def sim_time_source() -> SimTimeSource | None:
+    """The registered simulation time source (None when there is none)."""
+    return _sim_time_source.get()
+
+
 def sim_time_ns() -> int:
     """The registered simulation time in nanoseconds, 0 when no source is registered."""
     source = _sim_time_source.get()
@@ -353,3 +358,30 @@ class Clock:
         """The current simulation time as a :class:`Time` of this clock's type."""
         nanoseconds = sim_time_ns() if self._source is None else round(self._source() * S_TO_NS)
         return Time(nanoseconds=nanoseconds, clock_type=self._clock_type)
+
+    def sleep_until(self, until: Time, context: object = None) -> bool:
+        """Wait until this clock reads ``until``: sim time advances meanwhile (rclpy's
+        ``Clock.sleep_until``); True once it is reached.
+
+        Raises:
+            TypeError: ``until`` is not a :class:`Time`.
+            ValueError: ``until`` belongs to another clock type.
+            UnsupportedRosFeatureError: nothing can advance sim time here (no navigator or ROS
+                runtime in this script, or another thread).
+        """
+        from baobab.nav.ros import waiting
+
+        if not isinstance(until, Time):
+            raise TypeError("until must be a Time instance")
+        if until.clock_type != self._clock_type:
+            raise ValueError("until's clock type does not match this clock's type")
+        if until > self.now():
+            waiting.wait(until.nanoseconds, None, what="Clock.sleep_until()")
+        return True
+
+    def sleep_for(self, rel_time: Duration, context: object = None) -> bool:
+        """Wait ``rel_time`` of this clock's time (rclpy's ``Clock.sleep_for``); see
+        :meth:`sleep_until`."""
+        if not isinstance(rel_time, Duration):
+            raise TypeError("rel_time must be a Duration instance")
+        return self.sleep_until(self.now() + rel_time, context)

@@ -1,27 +1,46 @@
 """Waiting on sim time from node code: what ``spin``, ``rate.sleep`` and TF timeouts call.
 
 The ROS runtime (:mod:`baobab.nav.ros.runtime`) registers its scheduler here for the length
-of a run; node code inherits it. Outside a run, and from threads that are not actors, nothing
-can advance sim time, so a wait that would block raises instead.
+of a run; node code inherits it. A Nav2 script's navigator registers itself the same way
+(:mod:`baobab.nav.navigator_time`): its waits step the navigator's own simulation. Outside a
+run, and from threads that are not actors, nothing can advance sim time, so a wait that would
+block raises instead.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from contextvars import ContextVar
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from baobab.nav.ros import UnsupportedRosFeatureError
 
 if TYPE_CHECKING:
-    from baobab.nav.ros.actors import Scheduler
     from baobab.nav.ros.graph import Graph
 
-_scheduler: ContextVar[Scheduler | None] = ContextVar("ros_scheduler", default=None)
+
+class Waiter(Protocol):
+    """What advances sim time for a blocked caller: the runtime's scheduler, or a navigator."""
+
+    def current(self) -> object | None:
+        """Who is calling, or None for a thread that cannot wait on sim time."""
+        ...
+
+    def block(self, deadline_ns: int | None, ready: Callable[[], bool] | None) -> None:
+        """Return at sim time ``deadline_ns`` or once ``ready()`` holds."""
+        ...
+
+
+_scheduler: ContextVar[Waiter | None] = ContextVar("ros_scheduler", default=None)
 _graph: ContextVar[Graph | None] = ContextVar("ros_graph", default=None)
 
 
-def set_run(scheduler: Scheduler | None, graph: Graph | None) -> None:
+def waiter() -> Waiter | None:
+    """What waits are handed to in this context (None: nothing can wait)."""
+    return _scheduler.get()
+
+
+def set_run(scheduler: Waiter | None, graph: Graph | None) -> None:
     """Register (or clear, with None) the running scheduler and graph in this context."""
     _scheduler.set(scheduler)
     _graph.set(graph)
@@ -48,6 +67,7 @@ def wait(deadline_ns: int | None, ready: Callable[[], bool] | None, *, what: str
     if scheduler is None or scheduler.current() is None:
         raise UnsupportedRosFeatureError(
             f"{what} waits on simulation time, which only node code run by the ROS runtime "
-            "can do: run the file with `baobab ros run NODE.py --world W --robot R`"
+            "can do (run the file with `baobab ros run NODE.py --world W --robot R`), or the "
+            "thread of a Nav2 script that built a BasicNavigator"
         )
     scheduler.block(deadline_ns, ready)

@@ -4,9 +4,10 @@
 raises ``RuntimeError``; after a shutdown, init works again). ``spin``, ``spin_once`` and
 ``spin_until_future_complete`` use the context's global executor
 (:mod:`~baobab.nav.ros.rclpy.executors`); waiting for callbacks advances sim time, which node
-code run by ``baobab ros run`` can do. Outside such a run (a Nav2 script), ``spin_once`` runs
-the callbacks that are ready and gives a navigator its per-spin step, and a call that would
-wait forever raises :class:`~baobab.nav.ros.UnsupportedRosFeatureError`.
+code run by ``baobab ros run`` can do, and so can a Nav2 script once it built a
+``BasicNavigator``, whose simulation then serves the waits (:mod:`baobab.nav.navigator_time`).
+Elsewhere ``spin_once`` runs the callbacks that are ready, and a call that would wait forever
+raises :class:`~baobab.nav.ros.UnsupportedRosFeatureError`.
 """
 
 from __future__ import annotations
