@@ -205,3 +205,8 @@ def reported_error_code(codes: Iterable[int]) -> int:
     """
     failures = [int(code) for code in codes if int(code) != 0]
     return min(failures) if failures else 0
+
+
+class UnsupportedRosFeatureError(BaobabError):
+    """A script used a part of ROS that baobab does not model (services, actions), or waited
+    on sim time where nothing advances it."""

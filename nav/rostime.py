@@ -22,6 +22,7 @@ from contextvars import ContextVar
 from enum import IntEnum
 from typing import overload
 
+from baobab.nav import time_waiting
 from baobab.nav.rosmsg import Message
 
 S_TO_NS = 1_000_000_000
@@ -369,14 +370,12 @@ class Clock:
             UnsupportedRosFeatureError: nothing can advance sim time here (no navigator or ROS
                 runtime in this script, or another thread).
         """
-        from baobab.nav.ros import waiting
-
         if not isinstance(until, Time):
             raise TypeError("until must be a Time instance")
         if until.clock_type != self._clock_type:
             raise ValueError("until's clock type does not match this clock's type")
         if until > self.now():
-            waiting.wait(until.nanoseconds, None, what="Clock.sleep_until()")
+            time_waiting.wait(until.nanoseconds, None, what="Clock.sleep_until()")
         return True
 
     def sleep_for(self, rel_time: Duration, context: object = None) -> bool:

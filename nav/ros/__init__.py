@@ -16,7 +16,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from types import ModuleType
 
-from baobab.sim.errors import BaobabError
+from baobab.nav.errors import UnsupportedRosFeatureError as UnsupportedRosFeatureError
 
 ROS_MODULES: tuple[str, ...] = (
     "rclpy",
@@ -106,11 +106,6 @@ RUNTIME_MODULES: tuple[str, ...] = (
 """baobab's own modules here, which run the ROS modules (not served under a ROS name)."""
 
 _ROS_PACKAGES = frozenset(name.partition(".")[0] for name in ROS_MODULES)
-
-
-class UnsupportedRosFeatureError(BaobabError):
-    """A script used a part of ROS that baobab does not model (services, actions), or waited
-    on sim time where nothing advances it."""
 
 
 def load_message_types() -> None:
