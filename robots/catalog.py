@@ -39,12 +39,14 @@ BASE_CONTROLLERS = "base_controllers"
 """The tutorial base controllers: go-to-goal and Bug2."""
 TELEOP = "teleop"
 """Teleop input that events hold (assisted teleop reads it)."""
+ROS_NODES = "ros_nodes"
+"""rclpy node files run on the robot, which is on ROS topics (:mod:`baobab.nav.ros`)."""
 ARM = "arm"
 """Cartesian tool moves."""
 GRIPPER = "gripper"
 """A parallel gripper (driven through the ``arm`` port)."""
 
-MOBILE_CAPABILITIES = frozenset({BASE, LIDAR, NAVIGATION, BASE_CONTROLLERS, TELEOP})
+MOBILE_CAPABILITIES = frozenset({BASE, LIDAR, NAVIGATION, BASE_CONTROLLERS, TELEOP, ROS_NODES})
 """What every differential-drive robot with a lidar provides."""
 
 
@@ -211,7 +213,7 @@ ROBOTS: dict[str, RobotInfo] = {
         RobotInfo(
             name="panda",
             description="Franka Panda arm with a parallel gripper, Cartesian impedance control",
-            capabilities=frozenset({ARM, GRIPPER}),
+            capabilities=frozenset({ARM, GRIPPER, ROS_NODES}),
             scenes=("panda_table",),
             scene_objects=("cube",),
             runtime="baobab.robots.panda.runtime",

@@ -34,7 +34,12 @@ REGISTRY = (
     "robots/catalog.py",
     "robots/__init__.py",  # the package's map of its folders
 )
-ROBOT_FOLDERS = ("robots/turtlebot3/", "robots/turtlebot4/", "robots/panda/")
+ROBOT_FOLDERS = (
+    "robots/turtlebot3/",
+    "robots/turtlebot4/",
+    "robots/panda/",
+    "missions/ros/",  # bundled node files: user code a mission runs, as its YAML names a robot
+)
 
 
 def _robot_words() -> re.Pattern[str]:

@@ -183,7 +183,9 @@ class _Loader:
             ) from None
         robot = self._robot(file, robot_override)
         world, world_name = self._world(file.world, robot)
-        scope = MissionScope(robot, world, self._locations(file, robot, world))
+        scope = MissionScope(
+            robot, world, self._locations(file, robot, world), self.path.parent.resolve()
+        )
         start = self._start(file.start, scope, world)
         parser = TreeParser(self.document, self.registry, scope, file.subtrees, self.origins)
         tree = parser.parse(file.tree, ("tree",))

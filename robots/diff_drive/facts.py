@@ -110,6 +110,9 @@ class DiffDriveFacts:
         wheel_max_torque: the wheel motor's torque limit (N m), its stall torque.
         lidar: the lidar on top.
         mass_center_x: x (m) of the chassis' centre of mass; None: the body's centre.
+        base_link_height: ``base_link`` above ``base_footprint`` (m), as the robot's URDF
+            places it (baobab's ``base_link`` is on the floor; ROS topics use the URDF's).
+        imu: ``imu_link`` in the URDF's ``base_link`` (m).
         sources: where the figures come from, for ``baobab list`` and readers.
     """
 
@@ -131,6 +134,8 @@ class DiffDriveFacts:
     wheel_gain: float = 0.2
     wheel_max_torque: float = 1.4
     mass_center_x: float | None = None
+    base_link_height: float = 0.0
+    imu: tuple[float, float, float] = (0.0, 0.0, 0.0)
     sources: tuple[str, ...] = field(default=(), compare=False)
 
     @property

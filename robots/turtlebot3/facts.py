@@ -56,6 +56,8 @@ BURGER = DiffDriveFacts(
     wheel_gain=0.2,
     wheel_max_torque=1.4,  # [dxl] XL430-W250 stall torque at 11.1 V
     lidar=LDS_01,
+    base_link_height=0.010,  # [urdf]
+    imu=(-0.032, 0.0, 0.068),  # [urdf] imu_joint
     sources=("ROBOTIS e-manual", "turtlebot3_description URDF", "turtlebot3_navigation2"),
 )
 """The TurtleBot3 Burger."""
@@ -89,6 +91,8 @@ WAFFLE = DiffDriveFacts(
         rate=LDS_01.rate,
         beams=LDS_01.beams,
     ),
+    base_link_height=0.010,  # [urdf]
+    imu=(0.0, 0.0, 0.068),  # [urdf] imu_joint
     sources=("ROBOTIS e-manual", "turtlebot3_description URDF", "turtlebot3_navigation2"),
 )
 """The TurtleBot3 Waffle (the Waffle Pi shares its base)."""

@@ -58,6 +58,7 @@ TURTLEBOT4 = DiffDriveFacts(
     wheel_gain=0.2,
     wheel_max_torque=1.0,  # estimate (module docstring)
     lidar=RPLIDAR_A1,
+    imu=(0.050613, 0.043673, 0.0844),  # [c3sim] 0.0202 + 0.0642 above base_link
     sources=("TurtleBot 4 user manual", "Create 3 docs", "create3_sim", "Slamtec A1M8"),
 )
 """The TurtleBot 4 (standard): Create 3 base, RPLIDAR A1M8."""
