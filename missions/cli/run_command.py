@@ -224,7 +224,9 @@ def _run_and_save(
         show = shower(progress)
         try:
             if fork_is_safe():
-                finished = run_in_child(simulate, show, on_signal=signals.note)
+                finished = run_in_child(
+                    simulate, show, on_signal=signals.note, meanwhile=_load_plotting
+                )
             else:
                 finished = simulate(show)
         except ChildProcessDiedError as exc:
@@ -236,6 +238,13 @@ def _run_and_save(
         return finished, save_run(folder, finished)
     finally:
         progress.close()
+
+
+def _load_plotting() -> None:
+    """Import the plotting stack in this process while the run's process simulates."""
+    from baobab.missions.run.plotting import load_plotting  # after the fork: NumPy's threads
+
+    load_plotting()
 
 
 def _starting(robot: str) -> str:

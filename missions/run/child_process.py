@@ -2,8 +2,9 @@
 
 ``baobab run`` simulates in a child and writes the run folder in the parent, so the simulation
 stack (MuJoCo, numba's LLVM and the compiled kernels) and the plotting stack (matplotlib) are
-never in one process: the peak memory of a run is the larger of the two, not their sum, and a
-crash in native code (MuJoCo, a kernel) ends the run with a message naming the signal.
+never in one process: neither process holds both, and a crash in native code (MuJoCo, a
+kernel) ends the run with a message naming the signal. The parent loads its plotting stack
+while the child simulates (``meanwhile``), on the other core.
 
 The child is forked after the mission is loaded, so it starts from the parent's state with no
 second start-up (and with the parent's signal handlers). It runs in a process group of its
@@ -61,6 +62,7 @@ def run_in_child(
     job: Callable[[Send], T],
     on_message: Send,
     on_signal: Callable[[int], None] | None = None,
+    meanwhile: Callable[[], object] | None = None,
 ) -> T:
     """Run ``job(send)`` in a forked child and return what it returns.
 
@@ -69,6 +71,9 @@ def run_in_child(
             ``on_message`` in the parent; what it returns (or raises) must be picklable.
         on_message: called in the parent with each message, in order.
         on_signal: told (in the parent) of each :data:`FORWARDED` signal it passes on.
+        meanwhile: called in the parent right after the fork, while the child works (the
+            child's messages wait in the pipe until it returns): work the parent needs
+            afterwards, done on another core.
 
     Raises:
         BaseException: what ``job`` raised (KeyboardInterrupt and baobab's errors keep their
@@ -108,6 +113,8 @@ def run_in_child(
         signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)
     finished = False
     try:
+        if meanwhile is not None:
+            meanwhile()
         result = _receive(reader, on_message, child)
         finished = True
         return result
