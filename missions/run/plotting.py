@@ -231,7 +231,7 @@ def _trajectory(axes: Axes, data: MobilePlot) -> None:
     times = np.asarray(data.times, dtype=float)[kept]
     points = np.column_stack((xs, ys)).reshape(-1, 1, 2)
     segments = np.concatenate((points[:-1], points[1:]), axis=1)
-    line = LineCollection(segments, cmap="viridis", linewidths=2.6, zorder=4)
+    line = LineCollection(list(segments), cmap="viridis", linewidths=2.6, zorder=4)
     line.set_array(times[1:])
     axes.add_collection(line)
     figure: Any = axes.figure
