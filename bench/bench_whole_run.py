@@ -19,6 +19,7 @@ baseline measured in the same run; the load average is recorded beside them.
 from __future__ import annotations
 
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -246,6 +247,7 @@ def suite_figures() -> list[Figure]:
         wall = time.perf_counter() - began
         results = [json.loads(path.read_text()) for path in runs.glob("*/result.json")]
     sim = sum(float(result["sim_time"]) for result in results)
+    loops = sum(float(result["wall_time"]) for result in results)
     failed = None if done.returncode == 0 else (done.stdout.strip().splitlines() or ["?"])[-1]
     return [
         Figure(
@@ -258,6 +260,14 @@ def suite_figures() -> list[Figure]:
             failed=failed,
         ),
         Figure("pytest missions/ -n 2: wall", wall, "s", None, False, "pytest missions/ -n 2"),
+        Figure(
+            "pytest missions/ -n 2: wall / (sum of the missions' loops / 2 workers)",
+            wall / (loops / 2) if loops else math.nan,
+            "ratio",
+            None,
+            False,
+            "pytest missions/ -n 2 (loops: each run's wall_time)",
+        ),
     ]
 
 
