@@ -31,6 +31,7 @@ import numpy as np
 
 from baobab.nav import rpp_kernel as kernel
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import SpeedLimit, applied_speed
 from baobab.nav.errors import CollisionAheadError, FollowPathError, NavigationError
 from baobab.nav.path import Path
 from baobab.sim.world import Pose2D
@@ -87,6 +88,14 @@ class RegulatedPurePursuit:
         self._along = np.zeros(1)
         self.closest_index = 0
         self.last_carrot: tuple[float, float] | None = None
+
+    def set_speed_limit(self, limit: SpeedLimit | None) -> None:
+        """Nav2's ``setSpeedLimit``: the top speed becomes ``desired_linear_vel`` limited by
+        ``limit`` (a percentage of it, or m/s; None or 0 restores it)."""
+        settings = self._settings.copy()
+        settings[kernel.DESIRED_LINEAR_VEL] = applied_speed(limit, self.params.desired_linear_vel)
+        settings.setflags(write=False)
+        self._settings = settings
 
     def reset(self) -> None:
         """Forget the current path and its pruning."""
