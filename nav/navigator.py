@@ -65,7 +65,12 @@ from baobab.nav.navigator_messages import (
     path_from_message,
     path_message,
 )
-from baobab.nav.navigator_robot import NavigatorSetupError, check_free, pose_is_free
+from baobab.nav.navigator_robot import (
+    NavigatorSetupError,
+    check_free,
+    default_start,
+    pose_is_free,
+)
 from baobab.nav.navigator_tasks import NavigatorTasks
 from baobab.nav.server import NavigationServer
 from baobab.sim.errors import WorldError
@@ -220,12 +225,14 @@ class BasicNavigator(NavigatorTasks):
         return costmap_message(self._live_server().local_costmap(), self._stamp(), "master")
 
     def changeMap(self, map_filepath: str | FilePath) -> bool:
-        """Switch to another world: a bundled world name or a world YAML path.
+        """Switch to another map: a map_server map YAML (as Nav2's ``load_map`` takes), a
+        world YAML or a bundled world name.
 
         The simulation is rebuilt around the new world with the robot where it stands if
-        that pose is free there, else at the new world's default spawn; a running task is
-        canceled, and sim time goes on from where it was. Returns False (with the task error
-        set to a ``LoadMap`` result code and the reason) when the world cannot be loaded.
+        that pose is free there, else at the new world's default spawn (a map without one:
+        its origin, if free); a running task is canceled, and sim time goes on from where it
+        was. Returns False (with the task error set to a ``LoadMap`` result code and the
+        reason) when the map cannot be loaded or the robot has nowhere free to stand.
         """
         self.info("Changing map...")
         server = self._live_server()
@@ -241,7 +248,13 @@ class BasicNavigator(NavigatorTasks):
             self._set_task_error((int(code), str(exc)))
             return False
         pose = self._rig.base.pose()
-        start = pose if pose_is_free(world, pose, self._rig.footprint_radius) else world.spawn
+        try:
+            radius = self._rig.footprint_radius
+            start = pose if pose_is_free(world, pose, radius) else default_start(world, radius)
+        except NavigatorSetupError as exc:
+            self.error(f"Change map request failed: {exc}")
+            self._set_task_error((int(LoadMapResult.RESULT_UNDEFINED_FAILURE), str(exc)))
+            return False
         server.close()  # cancels the running task
         self._time_offset = self._sim_seconds()
         self._rig, self._server = self._build(world, start)

@@ -30,7 +30,12 @@ from baobab.nav.errors import (
 )
 from baobab.nav.navigator_feedback import Feedback, ResultFuture, RunningTask, feedback_message
 from baobab.nav.navigator_messages import GoalRejectedError
-from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot
+from baobab.nav.navigator_robot import (
+    SimulatedRobot,
+    build_simulated_robot,
+    default_start,
+    footprint_radius,
+)
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import Clock, ClockType, set_sim_time_source
 from baobab.nav.server import NavigationServer, build_navigation
@@ -95,7 +100,8 @@ class NavigatorCore(Node):
         namespace: the node's namespace.
         world: a bundled world name, a world YAML path or a loaded ``World``.
         robot: the robot model; ``"turtlebot3"`` (a Burger) is the one there is.
-        start: the robot's map-frame start pose; the world's default spawn when None.
+        start: the robot's map-frame start pose; the world's default spawn when None (on a
+            map without one, the map origin: :func:`~baobab.nav.navigator_robot.default_start`).
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
 
@@ -132,7 +138,8 @@ class NavigatorCore(Node):
         self._seed = settings.seed
         self._time_offset = 0.0
         self._world = loaded
-        self._rig, self._server = self._build(loaded, settings.start or loaded.spawn)
+        start = settings.start or default_start(loaded, footprint_radius(robot))
+        self._rig, self._server = self._build(loaded, start)
         super().__init__(node_name, namespace=namespace)
         self._sim_clock = Clock(clock_type=ClockType.ROS_TIME, source=self._sim_seconds)
         self._pacer = RealTimePacer() if settings.realtime else None

@@ -75,6 +75,35 @@ def build_simulated_robot(robot: str, world: World, start: Pose2D, seed: int) ->
     )
 
 
+def footprint_radius(robot: str) -> float:
+    """The footprint radius (m) of a navigator's robot (0 for a name it does not drive)."""
+    from baobab.robots.catalog import ROBOTS  # facts only: no physics
+
+    info = ROBOTS.get(robot)
+    return info.footprint_radius if info is not None and robot in ROBOT_MODELS else 0.0
+
+
+def default_start(world: World, radius: float) -> Pose2D:
+    """Where a robot starts when nothing says: the world's default spawn, or on a map without
+    one the map frame's origin (where Nav2's AMCL starts its estimate, ``initial_pose`` 0, 0, 0).
+
+    Raises:
+        NavigatorSetupError: a map without a spawn whose origin is not free.
+    """
+    spawn = world.spawns.get("default")
+    if spawn is not None:
+        return spawn
+    origin = Pose2D(x=0.0, y=0.0)
+    name, distance = nearest_obstacle(world, 0.0, 0.0)
+    if distance < radius:
+        raise NavigatorSetupError(
+            f"world '{world.name}' has no spawn and the map origin (0, 0) is not free ('{name}' "
+            f"is {distance:.3f} m from it); give a start pose (start=Pose2D(...), --start X,Y,YAW"
+            ", a mission's start:)"
+        )
+    return origin
+
+
 def pose_is_free(world: World, pose: Pose2D, radius: float) -> bool:
     """True when a footprint of ``radius`` (m) at ``pose`` is clear of obstacles, on the floor."""
     return nearest_obstacle(world, pose.x, pose.y)[1] >= radius

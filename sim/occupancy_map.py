@@ -217,7 +217,10 @@ def load_occupancy_map(
         raise describe_validation_error(document, exc, (), error_type) from None
     image = _image_path(Path(path), settings.image, document, error_type)
     raw = read_input_file(
-        image, _at_image(document, error_type), expected="an image file", limit=MAX_IMAGE_BYTES
+        image,
+        _at_image(document, error_type, settings.image),
+        expected="an image file",
+        limit=MAX_IMAGE_BYTES,
     )
     key = (
         str(Path(path).resolve()),
@@ -287,11 +290,11 @@ def _image_path(
     return candidate
 
 
-def _at_image(document: LocatedDocument, error_type: type[SourceError]) -> Any:
+def _at_image(document: LocatedDocument, error_type: type[SourceError], image: str) -> Any:
     """An error factory for the bounded reader that locates its errors at ``image``."""
     line, column = document.locate(("image",))
 
-    def located(shown: str, _line: int, _column: int, message: str) -> SourceError:
-        return error_type(document.path, line, column, f"image '{clip(shown)}': {message}")
+    def located(_shown: str, _line: int, _column: int, message: str) -> SourceError:
+        return error_type(document.path, line, column, f"image '{clip(image)}': {message}")
 
     return located
