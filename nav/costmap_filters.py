@@ -8,6 +8,10 @@ the ``CostmapFilterInfo`` fields (type, base, multiplier; reference/nav2_ros_fac
   and their inflation (Nav2 runs filters last). With ``override_lethal_cost`` (nav2_bringup's
   setting), while the robot stands on an inscribed or lethal mask cell the mask's inscribed
   and lethal cells are written as ``lethal_override_cost`` instead, so it can drive out.
+  One difference from Nav2, on purpose: the zone's lethal cells are inflated like a wall's
+  (their inflation is written with them), so the planner keeps the robot's footprint out of
+  the zone, not only its centre; Nav2 writes the bare mask, and a path that hugs a zone lets
+  the controller's projected motion clip its corners.
 - :class:`SpeedFilter`: the mask value ``m`` under the robot gives a speed limit: ``m == 0``
   no limit, ``m == -1`` nothing new; else ``base + multiplier * m``, a percentage of the
   maximum speed (type 1; outside 0..100 is no limit) or m/s (type 2; below 0 is no limit); a
@@ -26,13 +30,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from baobab.nav.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
+from baobab.nav.costmap import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
+from baobab.nav.layers import InflationLayer
 from baobab.sim.occupancy_map import OccupancyMap
 from baobab.sim.world import World
 from baobab.sim.world_map import SPEED_FILTER_PERCENT
 
 if TYPE_CHECKING:
-    from baobab.nav.layers import StaticLayer
+    from baobab.nav.layers import InflationParams, StaticLayer
 
 NO_SPEED_LIMIT = 0.0
 """Nav2's ``SpeedLimit.speed_limit`` value meaning "no limit"."""
@@ -69,6 +74,7 @@ class KeepoutFilter:
         resolution: the lattice's cell side (m).
         shape: ``(size_y, size_x)`` lattice cells the mask is sampled on.
         params: override settings.
+        inflation: the costmap's inflation, applied to the zone's lethal cells (None: none).
     """
 
     def __init__(
@@ -78,6 +84,7 @@ class KeepoutFilter:
         resolution: float,
         shape: tuple[int, int],
         params: KeepoutParams | None = None,
+        inflation: InflationLayer | None = None,
     ) -> None:
         self.params = params or KeepoutParams()
         self.mask = mask
@@ -92,6 +99,14 @@ class KeepoutFilter:
         self.costs = np.full(shape, NO_INFORMATION, dtype=np.uint8)
         sampled = costs[np.ix_(iy[inside_y], ix[inside_x])]
         self.costs[np.ix_(np.flatnonzero(inside_y), np.flatnonzero(inside_x))] = sampled
+        if inflation is not None:
+            inflated = inflation.inflate(self.costs == LETHAL_OBSTACLE, resolution)
+            none = self.costs == NO_INFORMATION
+            self.costs = np.where(
+                none,
+                np.where(inflated > 0, inflated, NO_INFORMATION),
+                np.maximum(self.costs, inflated),
+            ).astype(np.uint8)
         rows, cols = np.nonzero(self.costs != NO_INFORMATION)
         self.bounds = (
             (int(cols.min()), int(rows.min()), int(cols.max()) + 1, int(rows.max()) + 1)
@@ -180,14 +195,20 @@ def applied_speed(limit: SpeedLimit | None, base_speed: float) -> float:
 
 
 def keepout_filter(
-    world: World, static: StaticLayer, params: KeepoutParams | None = None
+    world: World,
+    static: StaticLayer,
+    inflation: InflationParams,
+    params: KeepoutParams | None = None,
 ) -> KeepoutFilter | None:
-    """The world's keepout filter on ``static``'s lattice, or None without a keepout mask."""
+    """The world's keepout filter on ``static``'s lattice, its zones inflated with
+    ``inflation``; None without a keepout mask."""
     mask = world.masks.keepout
     if mask is None:
         return None
     origin = (static.origin_x, static.origin_y)
-    return KeepoutFilter(mask, origin, static.resolution, static.raster.shape, params)
+    shape = (static.size_y, static.size_x)
+    layer = InflationLayer(inflation)
+    return KeepoutFilter(mask, origin, static.resolution, shape, params, layer)
 
 
 def speed_filter(world: World) -> SpeedFilter | None:

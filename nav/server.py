@@ -109,7 +109,10 @@ class NavigationServer:
             else StaticLayer(world, p.local_costmap.resolution, params=p.local_costmap.static)
         )
         self.global_layers = LayeredCostmap.global_costmap(
-            world, p.global_costmap, static, keepout_filter(world, static, p.keepout)
+            world,
+            p.global_costmap,
+            static,
+            keepout_filter(world, static, p.global_costmap.inflation, p.keepout),
         )
         self.local_layers = LayeredCostmap.local_costmap(
             world,
@@ -117,7 +120,7 @@ class NavigationServer:
             p.local_costmap,
             p.local_costmap_size,
             local_static,
-            keepout_filter(world, local_static, p.keepout),
+            keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout),
         )
         self.speed_filter = speed_filter(world)
         self.planner = GlobalPlanner(p.planner, p.smoother)
