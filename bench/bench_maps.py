@@ -11,6 +11,7 @@ pixels, 0.05 % of the free cells). Then, best of ``--repeats``:
 - the model's geom count;
 - lidar: wall time of one 360-beam scan at ten free poses of the map, over the same in the cafe
   (ratio; the cafe is measured in the same run);
+- navigation: a NavigateToPose run of about 9 m on the map, set-up included (real-time factor);
 - the alternative: the map's solid cells as one MuJoCo height field instead of boxes (build
   time, and the scan, which then needs ``mj_multiRay``).
 """
@@ -101,7 +102,7 @@ def scan_seconds(world: World, poses: list[Pose2D], scans: int = 50) -> float:
     """Mean wall seconds of one scan, over ``scans`` scans at each pose."""
     total = 0.0
     for pose in poses:
-        sim, robot = build_turtlebot3_sim(world, pose)
+        _sim, robot = build_turtlebot3_sim(world, pose)
         robot.lidar.scan()  # warm
         began = time.perf_counter()
         for _ in range(scans):

@@ -411,6 +411,24 @@ def bad_input_figures() -> list[Figure]:
     ]
 
 
+def map_figures() -> list[Figure]:
+    """Issue 22: a 2000 x 2000-cell map loaded and built; its lidar scan against the cafe's."""
+    report = _script_report("bench_maps.py", quiet=True)
+    command = "python bench/bench_maps.py"
+    return [
+        Figure(
+            f"map {report['cells']} x {report['cells']} cells: load + build the model "
+            f"({report['static_boxes']} boxes)",
+            report["load_and_build_s"],
+            "s",
+            1.5,
+            False,
+            command,
+        ),
+        Figure("map: lidar scan / the cafe's", report["scan_ratio"], "ratio", 2.0, False, command),
+    ]
+
+
 def test_suite_figures() -> list[Figure]:
     """Figure 7: wall time of the whole test suite with two workers."""
     began = time.perf_counter()
@@ -430,6 +448,7 @@ SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "startup": startup_figures,
     "arm": arm_figures,
     "memory": memory_figures,
+    "maps": map_figures,
 }
 OPTIONAL_SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "longrun": longrun_figures,

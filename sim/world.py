@@ -204,9 +204,12 @@ class World(_Strict):
         obstacles = [("boxes", i, b.name) for i, b in enumerate(self.boxes)]
         obstacles += [("cylinders", i, c.name) for i, c in enumerate(self.cylinders)]
         seen: set[str] = set()
-        reserved = [FLOOR_NAME, MOVABLE_SLOT_PREFIX + "N"]
+        reserved = f"'{FLOOR_NAME}', '{MOVABLE_SLOT_PREFIX}N' name the floor and run-time obstacles"
         if self.map is not None:
-            reserved.append(MAP_GEOM_PREFIX + "N")
+            reserved = (
+                f"'{FLOOR_NAME}', '{MOVABLE_SLOT_PREFIX}N', '{MAP_GEOM_PREFIX}N' name the floor, "
+                "run-time obstacles and the map's walls"
+            )
         for group, index, name in obstacles:
             if name in seen:
                 raise FieldValueError(
@@ -219,8 +222,7 @@ class World(_Strict):
             ):
                 raise FieldValueError(
                     (group, index, "name"),
-                    f"obstacle name '{name}' is reserved ({', '.join(reserved)} name the floor, "
-                    "run-time obstacles and the map's walls)",
+                    f"obstacle name '{name}' is reserved ({reserved})",
                 )
             seen.add(name)
 
