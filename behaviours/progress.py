@@ -1,14 +1,14 @@
-"""Clear the costmaps while the robot makes no forward progress (seed 000's rule).
+"""Clear the costmaps while the robot makes no forward progress.
 
-Seed 000's ``nav_to_pose.py`` watches ``/cmd_vel`` while a goal runs: the robot is "moving
-forward" when the last command's ``linear.x`` is above zero, and whenever it is not and more
-than ``COSTMAP_CLEARING_PERIOD`` (0.5 s) has passed since the last clearing, it clears all
-costmaps. :class:`ClearCostmapsWhenStuck` is that rule as a decorator around a navigation node.
-It judges forward progress by what the robot did rather than by what it was told: the
-forward speed over the last tick, the displacement between two consecutive poses projected
-on the earlier heading, divided by the sim time between them. Rotating in place, reversing,
-waiting and being blocked all count as no forward progress, as a zero or negative
-``linear.x`` does in the seed.
+The rule (:mod:`baobab.behaviours.progress_rule`) comes from the Nav2 Simple Commander tutorial's
+``nav_to_pose.py``, which watches ``/cmd_vel`` while a goal runs: the robot is "moving forward" when
+the last command's ``linear.x`` is above zero, and whenever it is not and more than
+``COSTMAP_CLEARING_PERIOD`` (0.5 s) has passed since the last clearing, it clears all costmaps.
+:class:`ClearCostmapsWhenStuck` is that rule as a decorator around a navigation node. It judges
+forward progress by what the robot did rather than by what it was told: the forward speed over the
+last tick, the displacement between two consecutive poses projected on the earlier heading, divided
+by the sim time between them. Rotating in place, reversing, waiting and being blocked all count as
+no forward progress, as a zero or negative ``linear.x`` does in the tutorial.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ class ClearCostmapsWhenStuck(py_trees.decorators.Decorator):
     """Pass the child's status through; while it runs, clear the costmaps every ``period``
     seconds of sim time during which the robot is not moving forward.
 
-    The clearing clock starts when the decorator starts, as the seed's starts with its node:
+    The clearing clock starts when the decorator starts, as the tutorial's starts with its node:
     the first clearing comes at least ``period`` s after that.
 
     Args:

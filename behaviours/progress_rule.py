@@ -1,4 +1,8 @@
-"""Seed 000's forward-progress rule: its parameters and its measure of forward speed.
+"""The forward-progress rule: its parameters and its measure of forward speed.
+
+While a navigation goal runs, whenever the robot is not moving forward and more than
+:data:`DEFAULT_PERIOD` has passed since the last clearing, clear all costmaps (the rule of the
+Nav2 Simple Commander tutorial's ``nav_to_pose.py``, which baobab's missions grew from).
 
 Kept apart from the decorator in :mod:`baobab.behaviours.progress` (which needs py_trees) so
 that validating a mission can read the defaults without importing py_trees.
@@ -11,7 +15,7 @@ import math
 from baobab.sim.world import Pose2D
 
 DEFAULT_PERIOD = 0.5
-"""Seed 000's ``COSTMAP_CLEARING_PERIOD`` (s)."""
+"""Least sim time (s) between two clearings (the tutorial's ``COSTMAP_CLEARING_PERIOD``)."""
 DEFAULT_MIN_SPEED = 0.01
 """Forward speed (m/s) above which the robot counts as moving forward; above zero so that
 contact jitter of a stopped robot does not count."""

@@ -17,9 +17,9 @@ from collections.abc import Callable
 
 import mujoco
 
-from baobab.missions.loader import load_mission
-from baobab.missions.run_command import resolve_mission
-from baobab.missions.runner import run_mission
+from baobab.missions.language.bundled_missions import resolve_mission
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.runner import run_mission
 from baobab.sim import simulation
 
 _costs: collections.defaultdict[str, float] = collections.defaultdict(float)

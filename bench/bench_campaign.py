@@ -22,17 +22,17 @@ import time
 from pathlib import Path
 from typing import Any
 
-from baobab.missions.campaign import replay_target, results_path, run_campaign
-from baobab.missions.campaign_exec import (
+from baobab.missions.campaigns.dispatch import replay_target, results_path, run_campaign
+from baobab.missions.campaigns.executors import (
     CampaignExecutor,
     DaskExecutor,
     LocalExecutor,
     preload_modules,
 )
-from baobab.missions.campaign_results import ResultsTable, read_rows
-from baobab.missions.campaign_spec import CampaignSpec, build_spec
-from baobab.missions.loader import load_mission
-from baobab.missions.run_command import resolve_mission
+from baobab.missions.campaigns.results import ResultsTable, read_rows
+from baobab.missions.campaigns.spec import CampaignSpec, build_spec
+from baobab.missions.language.bundled_missions import resolve_mission
+from baobab.missions.language.loader import load_mission
 
 VARY = ["start.x=uniform(-0.05,0.05)", "start.y=uniform(-0.05,0.05)"]
 

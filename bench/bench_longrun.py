@@ -3,7 +3,7 @@
 Usage: ``python bench/bench_longrun.py [--runs 200] [--hours 2] [--only runner navigator patrol]``
 
 1. runner: a short navigation mission (cafe, lidar noise on, a crate spawned on the way) is
-   loaded and run ``--runs`` times through :func:`~baobab.missions.runner.run_mission`, and
+   loaded and run ``--runs`` times through :func:`~baobab.missions.run.runner.run_mission`, and
    its run folder (result, trace, plot) written each time, as the pytest plugin does.
 2. navigator: ``--runs`` times a fresh :class:`~baobab.nav.BasicNavigator` in the cafe,
    ``goToPose`` to table_1, polled to completion, then ``lifecycleShutdown`` and
@@ -140,9 +140,9 @@ def _series(label: str, runs: int, warmup: int, once: Callable[[], str]) -> Memo
 
 def runner_series(runs: int, warmup: int, folder: Path) -> MemorySeries:
     """Load and run the short mission ``runs`` times through ``run_mission``."""
-    from baobab.missions.loader import load_mission
-    from baobab.missions.run_folder import write_run_folder
-    from baobab.missions.runner import run_mission
+    from baobab.missions.language.loader import load_mission
+    from baobab.missions.run.run_folder import write_run_folder
+    from baobab.missions.run.runner import run_mission
 
     path = folder / "longrun_short.yaml"
     path.write_text(SHORT_MISSION)
@@ -221,8 +221,8 @@ class _WindowClock:
 
 def patrol(hours: float, folder: Path) -> dict[str, object]:
     """Loop the cafe waypoints for ``hours`` of sim time; per-window wall time and memory."""
-    from baobab.missions.loader import load_mission
-    from baobab.missions.runner import run_mission
+    from baobab.missions.language.loader import load_mission
+    from baobab.missions.run.runner import run_mission
 
     duration = hours * 3600.0
     path = folder / "longrun_patrol.yaml"

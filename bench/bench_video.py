@@ -16,9 +16,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from baobab.missions.loader import load_mission
-from baobab.missions.run_command import resolve_mission
-from baobab.missions.runner import RecordingOptions, run_mission
+from baobab.missions.language.bundled_missions import resolve_mission
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.runner import RecordingOptions, run_mission
 from baobab.sim import camera, chase_camera, rendering
 
 _costs: collections.defaultdict[str, float] = collections.defaultdict(float)

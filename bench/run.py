@@ -76,7 +76,7 @@ def _compiled_env(cache: str) -> dict[str, str]:
 
 
 def _bundled(name: str) -> Path:
-    from baobab.missions.run_command import resolve_mission
+    from baobab.missions.language.bundled_missions import resolve_mission
 
     return Path(resolve_mission(name))
 
@@ -91,9 +91,9 @@ def _run_in_process(name: str, runs: int = 2) -> tuple[float, float, float]:
     """
     import mujoco
 
-    from baobab.missions.loader import load_mission
-    from baobab.missions.robots_wiring import build_rig
-    from baobab.missions.runner import run_mission
+    from baobab.missions.language.loader import load_mission
+    from baobab.missions.run.rig import build_rig
+    from baobab.missions.run.runner import run_mission
 
     mission = load_mission(_bundled(name))
     records = [run_mission(mission) for _ in range(runs)]

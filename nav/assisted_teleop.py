@@ -41,10 +41,11 @@ class AssistedTeleop(Behavior):
     padding between its footprint and the obstacle. One addition to Nav2: a robot already
     nearer than that to a lethal cell (an obstacle that appeared, a lidar hit marking the cell
     in front of a wall) is not frozen; a pose collides only if it comes nearer still, so the
-    robot can turn in place and back away. The motion is integrated as exact arcs
-    (Nav2 takes Euler steps; the two agree for straight lines and turns in place). While it
-    runs it clears all costmaps every ``1 / teleop_costmap_clear_frequency`` s (the seed's
-    2 Hz), counting from its start. A cancel (the server's) stops the robot: CANCELED.
+    robot can turn in place and back away. The motion is integrated as exact arcs (Nav2 takes Euler
+    steps; the two agree for straight lines and turns in place). While it runs it clears all
+    costmaps every ``1 / teleop_costmap_clear_frequency`` s (2 Hz, as the Nav2 Simple Commander
+    tutorial's assisted teleop node), counting from its start. A cancel (the server's) stops the
+    robot: CANCELED.
     """
 
     label = "AssistedTeleop"

@@ -55,7 +55,8 @@ class BehaviorParams:
     teleop_footprint_padding: float = 0.05
     """Margin (m) assisted teleop keeps between the footprint and lethal cells."""
     teleop_costmap_clear_frequency: float = 2.0
-    """How often (Hz) assisted teleop clears all costmaps while it runs (seed 000); 0: never."""
+    """How often (Hz) assisted teleop clears all costmaps while it runs, as the Nav2 Simple
+Commander tutorial's assisted teleop node does; 0: never."""
 
 
 @dataclass
@@ -358,7 +359,8 @@ COSTMAP_CHOICES = ("local", "global", "all")
 class ClearCostmaps:
     """Nav2's ``clear_entirely_{local,global}_costmap`` services: reset the obstacle layers.
 
-    The static layer stays; the lidar marks what is still there on its next scans.
+    The static layer stays; :meth:`~baobab.nav.server.NavigationServer.clear_costmaps` then
+    marks the latest scan again, so what the lidar still sees stays.
     """
 
     def __init__(self, local: LayeredCostmap, global_: LayeredCostmap) -> None:

@@ -13,6 +13,8 @@ import math
 
 import numpy as np
 
+from baobab.sim.records import record
+
 FREE_SPACE = 0
 """No obstacle near the cell."""
 MAX_NON_OBSTACLE = 252
@@ -23,6 +25,17 @@ LETHAL_OBSTACLE = 254
 """An obstacle covers the cell."""
 NO_INFORMATION = 255
 """Nothing is known about the cell."""
+
+GRID = np.dtype(
+    [
+        ("origin_x", np.float64),  # map-frame x of the lower-left corner (m)
+        ("origin_y", np.float64),  # m
+        ("resolution", np.float64),  # cell side (m)
+        ("inscribed_radius", np.float64),  # m
+    ]
+)
+"""A costmap's geometry as compiled kernels read it (:meth:`Costmap2D.pack`); the cells travel
+beside it as their own array."""
 
 
 class Costmap2D:
@@ -57,6 +70,8 @@ class Costmap2D:
         self.default_value = int(default_value)
         self.inscribed_radius = float(inscribed_radius)
         self.data = np.full((size_y, size_x), default_value, dtype=np.uint8)
+        self._packed_key: tuple[float, float, float, float] | None = None
+        self._packed = np.empty(0, dtype=GRID)
 
     @property
     def size_x(self) -> int:
@@ -135,6 +150,16 @@ class Costmap2D:
         result = np.full(np.shape(ix), outside, dtype=np.uint8)
         result[inside] = self.data[iy[inside], ix[inside]]
         return result
+
+    def pack(self) -> np.ndarray:
+        """The geometry as a :data:`GRID` record (:mod:`baobab.sim.records`); read only.
+
+        Built again only when the geometry changed (a rolling window moves its origin).
+        """
+        key = (self.origin_x, self.origin_y, self.resolution, self.inscribed_radius)
+        if key != self._packed_key:
+            self._packed, self._packed_key = record(GRID, self), key
+        return self._packed
 
     def copy(self) -> Costmap2D:
         """An independent copy (geometry, metadata and cells)."""

@@ -2,7 +2,8 @@
 
 Each costmap takes the latest scan when it updates (Nav2's ``observation_persistence`` 0):
 the local one at its update rate (5 Hz), which also moves its rolling window with the robot,
-the global one at its own (1 Hz). A scan is marked once per costmap.
+the global one at its own (1 Hz). A scan is marked once per costmap; a clear marks the latest
+one again at once.
 """
 
 from __future__ import annotations
@@ -49,16 +50,17 @@ class CostmapUpdates:
         self._global_scan = scan
         self._global.update(self._base.pose(), [scan] if fresh and scan is not None else [])
 
-    def clear(self, which: str) -> None:
-        """Clear the obstacle layers of the ``local``, ``global`` or ``all`` costmaps."""
-        self._clear(which)
-
     def clear_and_remark(self, which: str) -> None:
-        """Clear, then mark the latest scan again: what the lidar still sees stays.
+        """Clear the ``local``, ``global`` or ``all`` obstacle layers, then mark the latest scan
+        again: what the lidar still sees stays.
 
-        Nav2's obstacle layer re-marks its latest observation on every update, so a clearing
-        only forgets obstacles the sensor no longer sees; here a scan is marked once, so the
-        latest one is marked again at once (assisted teleop's periodic clearing).
+        Nav2's obstacle layer re-marks its latest observation on every update, and its planner
+        and controller wait after a clear until the costmap is current again, so a clear only
+        forgets obstacles the sensor no longer sees; here a scan is marked once, so the latest
+        one is marked again at once.
+
+        Raises:
+            ValueError: for any other name.
         """
         self._clear(which)
         scan = self._latest_scan

@@ -10,12 +10,15 @@ diagonal step needs both cells beside it open, so a path never squeezes between 
 corners. Every closed cell holds its optimal cost to reach, so one exhausted search answers
 "which reachable cell is nearest to a blocked goal" exactly.
 
-Pure Python A* on a 100k-cell map takes hundreds of milliseconds; this kernel takes a few.
+Compiled because pure Python A* on a 100k-cell map takes hundreds of milliseconds and this
+kernel a few. The search's arrays travel in one :class:`SearchSpace` record
+(:mod:`baobab.sim.records`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -47,46 +50,63 @@ def _before(f_a: int, h_a: int, f_b: int, h_b: int) -> bool:  # pragma: no cover
     return f_a < f_b or (f_a == f_b and h_a < h_b)
 
 
-@numba.njit(cache=True, nogil=True)
-def _sift_up(
-    heap_f: np.ndarray, heap_h: np.ndarray, heap_v: np.ndarray, where: np.ndarray, i: int
-) -> None:  # pragma: no cover - compiled
-    f, h, v = heap_f[i], heap_h[i], heap_v[i]
+class Heap(NamedTuple):
+    """The open list: a binary heap of cells, one slot per cell of the grid."""
+
+    f: np.ndarray
+    """Priority of each slot: cost so far plus the heuristic (``int64``)."""
+    h: np.ndarray
+    """The heuristic alone, to break ties (``int64``)."""
+    cell: np.ndarray
+    """The flat cell index ``row * width + col`` in each slot (``int64``)."""
+    where: np.ndarray
+    """Per cell: its slot while it is open (``int64``)."""
+
+
+class SearchSpace(NamedTuple):
+    """Everything a search keeps per cell (``int64``, one entry per cell)."""
+
+    g: np.ndarray
+    """Cost from the start."""
+    parent: np.ndarray
+    """The cell it was reached from; -1 for the start."""
+    mark: np.ndarray
+    """``4 * generation + state`` of the search that last touched it."""
+    heap: Heap
+    """The open list."""
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _sift_up(heap: Heap, i: int) -> None:  # pragma: no cover - compiled
+    f, h, v = heap.f[i], heap.h[i], heap.cell[i]
     while i > 0:
         up = (i - 1) >> 1
-        if not _before(f, h, heap_f[up], heap_h[up]):
+        if not _before(f, h, heap.f[up], heap.h[up]):
             break
-        heap_f[i], heap_h[i], heap_v[i] = heap_f[up], heap_h[up], heap_v[up]
-        where[heap_v[i]] = i
+        heap.f[i], heap.h[i], heap.cell[i] = heap.f[up], heap.h[up], heap.cell[up]
+        heap.where[heap.cell[i]] = i
         i = up
-    heap_f[i], heap_h[i], heap_v[i] = f, h, v
-    where[v] = i
+    heap.f[i], heap.h[i], heap.cell[i] = f, h, v
+    heap.where[v] = i
 
 
-@numba.njit(cache=True, nogil=True)
-def _sift_down(
-    heap_f: np.ndarray,
-    heap_h: np.ndarray,
-    heap_v: np.ndarray,
-    where: np.ndarray,
-    i: int,
-    size: int,
-) -> None:  # pragma: no cover - compiled
-    f, h, v = heap_f[i], heap_h[i], heap_v[i]
+@numba.njit(cache=True, nogil=True, inline="always")
+def _sift_down(heap: Heap, i: int, size: int) -> None:  # pragma: no cover - compiled
+    f, h, v = heap.f[i], heap.h[i], heap.cell[i]
     while True:
         child = 2 * i + 1
         if child >= size:
             break
         right = child + 1
-        if right < size and _before(heap_f[right], heap_h[right], heap_f[child], heap_h[child]):
+        if right < size and _before(heap.f[right], heap.h[right], heap.f[child], heap.h[child]):
             child = right
-        if not _before(heap_f[child], heap_h[child], f, h):
+        if not _before(heap.f[child], heap.h[child], f, h):
             break
-        heap_f[i], heap_h[i], heap_v[i] = heap_f[child], heap_h[child], heap_v[child]
-        where[heap_v[i]] = i
+        heap.f[i], heap.h[i], heap.cell[i] = heap.f[child], heap.h[child], heap.cell[child]
+        heap.where[heap.cell[i]] = i
         i = child
-    heap_f[i], heap_h[i], heap_v[i] = f, h, v
-    where[v] = i
+    heap.f[i], heap.h[i], heap.cell[i] = f, h, v
+    heap.where[v] = i
 
 
 @numba.njit(cache=True, nogil=True)
@@ -97,14 +117,10 @@ def _astar(
     goal: int,
     max_expansions: int,
     generation: int,
-    g: np.ndarray,
-    parent: np.ndarray,
-    mark: np.ndarray,
-    where: np.ndarray,
-    heap_f: np.ndarray,
-    heap_h: np.ndarray,
-    heap_v: np.ndarray,
+    space: SearchSpace,
 ) -> tuple[int, int]:  # pragma: no cover - compiled
+    """A* from flat cell ``start`` to ``goal``; returns the status and the cells expanded."""
+    g, parent, mark, heap = space.g, space.parent, space.mark, space.heap
     height, width = grid.shape
     flat = grid.ravel()
     # A cell is new unless this search marked it: mark = 4 * generation + state. Nothing is
@@ -118,19 +134,19 @@ def _astar(
     h_card = _CARDINAL * min_weight
     h_extra = (_DIAGONAL - 2 * _CARDINAL) * min_weight
     goal_row, goal_col = goal // width, goal % width
-    heap_f[0], heap_h[0], heap_v[0] = 0, 0, start
-    where[start] = 0
+    heap.f[0], heap.h[0], heap.cell[0] = 0, 0, start
+    heap.where[start] = 0
     mark[start] = opened
     g[start] = 0
     parent[start] = -1
     size = 1
     expansions = 0
     while size > 0:
-        current = heap_v[0]
+        current = heap.cell[0]
         size -= 1
         if size > 0:
-            heap_f[0], heap_h[0], heap_v[0] = heap_f[size], heap_h[size], heap_v[size]
-            _sift_down(heap_f, heap_h, heap_v, where, 0, size)
+            heap.f[0], heap.h[0], heap.cell[0] = heap.f[size], heap.h[size], heap.cell[size]
+            _sift_down(heap, 0, size)
         mark[current] = closed
         if current == goal:
             return FOUND, expansions
@@ -162,14 +178,14 @@ def _astar(
             dy, dx = abs(r - goal_row), abs(c - goal_col)
             h = h_card * (dx + dy) + h_extra * min(dx, dy)
             if seen == opened:
-                i = where[neighbour]
-                heap_f[i] = candidate + h
+                i = heap.where[neighbour]
+                heap.f[i] = candidate + h
             else:
                 mark[neighbour] = opened
                 i = size
                 size += 1
-                heap_f[i], heap_h[i], heap_v[i] = candidate + h, h, neighbour
-            _sift_up(heap_f, heap_h, heap_v, where, i)
+                heap.f[i], heap.h[i], heap.cell[i] = candidate + h, h, neighbour
+            _sift_up(heap, i)
     return EXHAUSTED, expansions
 
 
@@ -215,13 +231,17 @@ class GridSearch:
 
     def _allocate(self, n: int) -> None:
         self._generation = 0
-        self._g = np.empty(n, dtype=np.int64)
-        self._parent = np.empty(n, dtype=np.int64)
-        self._mark = np.zeros(n, dtype=np.int64)
-        self._where = np.empty(n, dtype=np.int64)
-        self._heap_f = np.empty(n, dtype=np.int64)
-        self._heap_h = np.empty(n, dtype=np.int64)
-        self._heap_v = np.empty(n, dtype=np.int64)
+        self._space = SearchSpace(
+            g=np.empty(n, dtype=np.int64),
+            parent=np.empty(n, dtype=np.int64),
+            mark=np.zeros(n, dtype=np.int64),
+            heap=Heap(
+                f=np.empty(n, dtype=np.int64),
+                h=np.empty(n, dtype=np.int64),
+                cell=np.empty(n, dtype=np.int64),
+                where=np.empty(n, dtype=np.int64),
+            ),
+        )
 
     def search(
         self,
@@ -254,29 +274,23 @@ class GridSearch:
             goal[0] * width + goal[1],
             max_expansions,
             self._generation,
-            self._g,
-            self._parent,
-            self._mark,
-            self._where,
-            self._heap_f,
-            self._heap_h,
-            self._heap_v,
+            self._space,
         )
         return SearchResult(int(status), int(expansions))
 
     def reached(self) -> np.ndarray:
         """Closed cells of the last search, as a ``bool`` grid."""
-        return (self._mark == 4 * self._generation + _CLOSED).reshape(self._shape)
+        return (self._space.mark == 4 * self._generation + _CLOSED).reshape(self._shape)
 
     def cost_to(self, cell: tuple[int, int]) -> int:
         """Cost from the start to a ``(row, col)`` cell; optimal once the cell is closed."""
         index = cell[0] * self._shape[1] + cell[1]
-        if self._mark[index] < 4 * self._generation:
+        if self._space.mark[index] < 4 * self._generation:
             return int(_UNREACHED)
-        return int(self._g[index])
+        return int(self._space.g[index])
 
     def path_to(self, cell: tuple[int, int]) -> np.ndarray:
         """``(N, 2)`` array of ``(row, col)`` from the start to a reached ``cell``."""
         width = self._shape[1]
-        flat = _trace(self._parent, cell[0] * width + cell[1])
+        flat = _trace(self._space.parent, cell[0] * width + cell[1])
         return np.stack([flat // width, flat % width], axis=1)

@@ -30,6 +30,9 @@ from baobab.nav.layers import (
 )
 from baobab.nav.static_map import StaticLayerParams
 from baobab.nav.window_kernels import (
+    WINDOW,
+    Layers,
+    Scratch,
     base_change_bounds,
     dropped_base_bounds,
     refresh_window,
@@ -37,6 +40,7 @@ from baobab.nav.window_kernels import (
     shift_grid,
 )
 from baobab.sim.lidar import LaserScan
+from baobab.sim.records import record
 from baobab.sim.world import Pose2D, World
 
 
@@ -104,11 +108,16 @@ class LayeredCostmap:
         self._bounds = np.zeros(4, dtype=np.int64)
         margin = self.inflation_layer.margin_cells(res)
         scratch = (size_y + 2 * margin, size_x + 2 * margin)
-        self._gap = np.empty(scratch, dtype=np.int32)
-        self._base = np.empty(scratch, dtype=np.uint8)
-        self._costs = np.empty((size_y, size_x), dtype=np.uint8)
+        self._scratch = Scratch(
+            gap=np.empty(scratch, dtype=np.int32),
+            base=np.empty(scratch, dtype=np.uint8),
+            costs=np.empty(scratch, dtype=np.uint8),
+        )
         self._no_static_costs = np.zeros((1, 1), dtype=np.uint8)
         self._static_inflation: np.ndarray | None = None
+        self._window_record = np.empty(0, dtype=WINDOW)
+        self._window_key: tuple[int, int] | None = None
+        self._layers: Layers | None = None
 
     @classmethod
     def global_costmap(
@@ -185,19 +194,27 @@ class LayeredCostmap:
         if self.obstacle_layer.add_scan(scan) is None:
             return
         index, old = self.obstacle_layer.last_changes
-        if base_change_bounds(
-            self.obstacle_layer.grid.data,
-            index,
-            old,
-            index.shape[0],
-            self.static_layer.raster,
-            self._ix0,
-            self._iy0,
-            self.params.use_static_layer,
-            self._bounds,
-        ):
+        grid, raster = self.obstacle_layer.grid.data, self.static_layer.raster
+        if base_change_bounds(grid, raster, self._window(), index, old, self._bounds):
             b = self._bounds
             self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
+
+    def _window(self) -> np.ndarray:
+        """The window's placement and layers as the kernels' :data:`WINDOW` record (built
+        again when the window moved; read only)."""
+        if self._window_key != (self._ix0, self._iy0):
+            params, resolution = self.params, self.resolution
+            self._window_key = (self._ix0, self._iy0)
+            self._window_record = record(
+                WINDOW,
+                raster_x0=self._ix0,
+                raster_y0=self._iy0,
+                use_static=params.use_static_layer,
+                use_obstacle=params.use_obstacle_layer,
+                margin=self.inflation_layer.margin_cells(resolution),
+                reach=self.inflation_layer.cost_table(resolution)[1],
+            )
+        return self._window_record
 
     def update(self, robot_pose: Pose2D | None = None, scans: Iterable[LaserScan] = ()) -> None:
         """One update cycle: follow the robot (rolling window), then take in the scans."""
@@ -236,15 +253,10 @@ class LayeredCostmap:
         cells that enter it (free of obstacles, and their static cells counted already).
         """
         size_x, size_y = self._master.size_x, self._master.size_y
+        grid, raster = self.obstacle_layer.grid.data, self.static_layer.raster
+        window = self._window()
         if self.params.use_obstacle_layer and dropped_base_bounds(
-            self.obstacle_layer.grid.data,
-            dix,
-            diy,
-            self.static_layer.raster,
-            self._ix0,
-            self._iy0,
-            self.params.use_static_layer,
-            self._bounds,
+            grid, raster, window, dix, diy, self._bounds
         ):
             b = self._bounds
             self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
@@ -292,49 +304,23 @@ class LayeredCostmap:
             if rect[0] < rect[2] and rect[1] < rect[3]:
                 rects = _merge_rect(rects, rect, margin)
         static_costs = self._static_costs(table, reach)
-        master = self._master.data
-        raster = self.static_layer.raster
-        obstacles = self.obstacle_layer.grid.data
-        use_static, use_obstacle = self.params.use_static_layer, self.params.use_obstacle_layer
-        for x0, y0, x1, y1 in rects:
+        if self._layers is None or self._layers.table is not table:
+            self._layers = Layers(
+                master=self._master.data,
+                raster=self.static_layer.raster,
+                obstacle=self.obstacle_layer.grid.data,
+                table=table,
+            )
+        layers = self._layers
+        window = self._window()
+        for rect in rects:
             if static_costs is not None and refresh_window_static(
-                master,
-                raster,
-                static_costs,
-                self._ix0,
-                self._iy0,
-                use_static,
-                obstacles,
-                use_obstacle,
-                x0,
-                y0,
-                x1,
-                y1,
-                reach,
-                table,
-                self._costs,
+                layers, static_costs, window, rect, self._scratch.costs
             ):
                 continue
-            refresh_window(
-                master,
-                raster,
-                self._ix0,
-                self._iy0,
-                use_static,
-                obstacles,
-                use_obstacle,
-                x0,
-                y0,
-                x1,
-                y1,
-                margin,
-                reach,
-                table,
-                self._gap,
-                self._base,
-                self._costs,
-            )
+            refresh_window(layers, window, rect, self._scratch)
         if self.keepout is not None:
+            master = self._master.data
             for x0, y0, x1, y1 in rects:
                 self.keepout.apply(
                     master[y0:y1, x0:x1], self._ix0 + x0, self._iy0 + y0, self._in_keepout

@@ -22,11 +22,12 @@ from baobab.nav.costmap import (
     MAX_NON_OBSTACLE,
     Costmap2D,
 )
-from baobab.nav.raytrace_kernels import cell_thresholds, trace_scan
+from baobab.nav.raytrace_kernels import OBSTACLE_RANGES, RayTracer, cell_thresholds, trace_scan
 from baobab.nav.static_map import StaticLayerParams, map_costs
 from baobab.nav.window_kernels import inflation_costs, shift_grid
 from baobab.sim.errors import BaobabError
 from baobab.sim.lidar import LaserScan
+from baobab.sim.records import record
 from baobab.sim.world import MAX_COSTMAP_CELLS, Box, Cylinder, World
 
 # Touching is not overlapping: a box whose face lies on a cell boundary leaves the next cell free.
@@ -217,6 +218,10 @@ class ObstacleParams:
     raytrace_max_range: float = 3.0
     raytrace_min_range: float = 0.0
 
+    def pack(self) -> np.ndarray:
+        """These ranges as the kernel's :data:`~baobab.nav.raytrace_kernels.OBSTACLE_RANGES`."""
+        return record(OBSTACLE_RANGES, self)
+
 
 class ObstacleLayer:
     """Obstacles seen by the lidar: hits mark cells lethal, beams clear the cells they cross.
@@ -236,26 +241,27 @@ class ObstacleLayer:
         self.grid = grid
         self.params = params or ObstacleParams()
         cells = grid.size_x * grid.size_y
-        self._touched = np.zeros(grid.data.shape, dtype=np.uint8)
-        self._changed_index = np.empty(cells, dtype=np.int64)
-        self._changed_old = np.empty(cells, dtype=np.uint8)
-        self._changed_count = 0
-        self._bounds = np.zeros(4, dtype=np.int64)
-        self._threshold_x = cell_thresholds(grid.size_x, grid.resolution)
-        self._threshold_y = cell_thresholds(grid.size_y, grid.resolution)
-        self._samples_start = max(self.params.raytrace_min_range, 0.0)
-        self._samples_step = grid.resolution / 2
-        self._samples = np.arange(
-            self._samples_start, self.params.raytrace_max_range, self._samples_step
+        self._ranges = self.params.pack()
+        self._tracer = RayTracer(
+            threshold_x=cell_thresholds(grid.size_x, grid.resolution),
+            threshold_y=cell_thresholds(grid.size_y, grid.resolution),
+            samples=np.arange(
+                max(self.params.raytrace_min_range, 0.0),
+                self.params.raytrace_max_range,
+                grid.resolution / 2,
+            ),
+            touched=np.zeros(grid.data.shape, dtype=np.uint8),
+            changed_index=np.empty(cells, dtype=np.int64),
+            changed_old=np.empty(cells, dtype=np.uint8),
+            bounds=np.zeros(4, dtype=np.int64),
         )
-        self._angles_key: tuple[float, float, int] | None = None
-        self._angles = np.empty(0)
+        self._changed_count = 0
 
     @property
     def last_changes(self) -> tuple[np.ndarray, np.ndarray]:
         """Cells the last :meth:`add_scan` changed: indices ``iy * size_x + ix``, old values."""
         count = self._changed_count
-        return self._changed_index[:count], self._changed_old[:count]
+        return self._tracer.changed_index[:count], self._tracer.changed_old[:count]
 
     def reset(self) -> None:
         """Forget every obstacle (Nav2's clear-costmap service on this layer)."""
@@ -276,48 +282,17 @@ class ObstacleLayer:
             The bounds of the cells whose value changed, None when none did (so a scan of an
             unchanged scene costs the costmap no inflation update).
         """
-        p = self.params
-        grid = self.grid
         self._changed_count = 0
         ranges = np.ascontiguousarray(scan.ranges, dtype=np.float64)
         if ranges.size == 0:
             return None
-        pose = scan.sensor_pose
-        # Beam angles depend on these three numbers only: reuse them from scan to scan.
-        key = (scan.angle_min, scan.angle_increment, ranges.size)
-        if key != self._angles_key:
-            self._angles_key, self._angles = key, scan.angles
-        headings = pose.yaw + self._angles
-        count = trace_scan(
-            grid.data,
-            self._touched,
-            self._changed_index,
-            self._changed_old,
-            self._threshold_x,
-            self._threshold_y,
-            grid.origin_x,
-            grid.origin_y,
-            grid.resolution,
-            pose.x,
-            pose.y,
-            headings,
-            np.cos(headings),
-            np.sin(headings),
-            ranges,
-            max(scan.range_min, 0.0),
-            p.obstacle_min_range,
-            p.obstacle_max_range,
-            p.raytrace_max_range,
-            self._samples,
-            self._samples_start,
-            self._samples_step,
-            self._bounds,
-        )
+        grid = self.grid
+        count = trace_scan(grid.data, grid.pack(), scan.pack(), ranges, self._ranges, self._tracer)
         self._changed_count = count
         if count == 0:
             return None
-        bounds = self._bounds
-        return (int(bounds[0]), int(bounds[1]), int(bounds[2]), int(bounds[3]))
+        x0, y0, x1, y1 = self._tracer.bounds.tolist()
+        return (x0, y0, x1, y1)
 
 
 @dataclass(frozen=True)

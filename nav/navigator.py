@@ -205,7 +205,7 @@ class BasicNavigator(NavigatorTasks):
     # -- costmaps and maps --------------------------------------------------------------------
 
     def clearAllCostmaps(self) -> None:
-        """Clear the obstacle layers of both costmaps (the lidar marks what is there again)."""
+        """Clear the obstacle layers of both costmaps; what the lidar still sees stays."""
         self._live_server().clear_costmaps("all")
 
     def clearLocalCostmap(self) -> None:

@@ -164,42 +164,35 @@ class GlobalPlanner:
         The goal's own cell comes first whenever it is open, even when its centre is farther
         from the goal point than a neighbour's.
         """
-        gx, gy = costmap.world_to_map(goal.x, goal.y) or (0, 0)
         return _goal_candidates(
-            grid,
-            self.weights,
-            gx,
-            gy,
-            goal.x,
-            goal.y,
-            costmap.origin_x,
-            costmap.origin_y,
-            costmap.resolution,
-            self.params.tolerance,
+            grid, self.weights, costmap.pack(), goal.x, goal.y, self.params.tolerance
         )
 
 
 @numba.njit(cache=True, nogil=True)
 def _goal_candidates(
-    grid: np.ndarray,
+    cells: np.ndarray,
     weights: np.ndarray,
-    gx: int,
-    gy: int,
+    grid: np.ndarray,
     goal_x: float,
     goal_y: float,
-    origin_x: float,
-    origin_y: float,
-    resolution: float,
     tolerance: float,
 ) -> np.ndarray:  # pragma: no cover - compiled
-    """Open cells ``(ix, iy)`` within ``tolerance`` (m) of the goal, ordered by distance, then
-    ``ix``, then ``iy``; the goal's own cell ``(gx, gy)`` counts as distance -1."""
-    size_y, size_x = grid.shape
+    """Open cells ``(ix, iy)`` within ``tolerance`` (m) of the goal ``(goal_x, goal_y)`` (m),
+    ordered by distance, then ``ix``, then ``iy``; the goal's own cell counts as distance -1.
+
+    ``grid`` is the costmap's :data:`~baobab.nav.costmap.GRID` record; the goal lies on it.
+    """
+    g = grid[0]
+    origin_x, origin_y, resolution = g.origin_x, g.origin_y, g.resolution
+    size_y, size_x = cells.shape
+    gx = math.floor((goal_x - origin_x) / resolution)
+    gy = math.floor((goal_y - origin_y) / resolution)
     reach = math.ceil(tolerance / resolution) + 1
     x0, x1 = max(gx - reach, 0), min(gx + reach + 1, size_x)
     y0, y1 = max(gy - reach, 0), min(gy + reach + 1, size_y)
     count = max(x1 - x0, 0) * max(y1 - y0, 0)
-    cells = np.empty((count, 2), np.int64)
+    found_cells = np.empty((count, 2), np.int64)
     distances = np.empty(count)
     found = 0
     # Columns outer, rows inner: a stable sort by distance then orders ties by ix, then iy.
@@ -211,12 +204,12 @@ def _goal_candidates(
                 cx = origin_x + (ix + 0.5) * resolution
                 cy = origin_y + (iy + 0.5) * resolution
                 distance = math.hypot(cx - goal_x, cy - goal_y)
-            if distance <= tolerance and weights[grid[iy, ix]] > 0:
-                cells[found, 0], cells[found, 1] = ix, iy
+            if distance <= tolerance and weights[cells[iy, ix]] > 0:
+                found_cells[found, 0], found_cells[found, 1] = ix, iy
                 distances[found] = distance
                 found += 1
     order = np.argsort(distances[:found], kind="mergesort")
-    return cells[:found][order]
+    return found_cells[:found][order]
 
 
 def step_weights(cost_travel_multiplier: float, allow_unknown: bool) -> np.ndarray:

@@ -34,6 +34,7 @@ from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_filters import SpeedLimit, applied_speed
 from baobab.nav.errors import CollisionAheadError, FollowPathError, NavigationError
 from baobab.nav.path import Path
+from baobab.sim.records import record
 from baobab.sim.world import Pose2D
 
 
@@ -68,6 +69,21 @@ class RegulatedPurePursuitParams:
     controller_frequency: float = 20.0
     max_robot_pose_search_dist: float | None = None
 
+    def pack(self, desired_linear_vel: float | None = None) -> np.ndarray:
+        """These settings as the kernel's :data:`~baobab.nav.rpp_kernel.RPP_SETTINGS` record,
+        with ``desired_linear_vel`` (m/s) replaced when given (a speed limit in force).
+
+        ``max_robot_pose_search_dist`` None or 0 means the costmap's half extent (NaN there).
+        """
+        search = self.max_robot_pose_search_dist or math.nan
+        speed = self.desired_linear_vel if desired_linear_vel is None else desired_linear_vel
+        return record(
+            kernel.RPP_SETTINGS,
+            self,
+            max_robot_pose_search_dist=search,
+            desired_linear_vel=speed,
+        )
+
 
 class RegulatedPurePursuit:
     """Nav2's ``RegulatedPurePursuitController`` for a differential-drive robot.
@@ -82,8 +98,7 @@ class RegulatedPurePursuit:
 
     def __init__(self, params: RegulatedPurePursuitParams | None = None) -> None:
         self.params = params or RegulatedPurePursuitParams()
-        self._settings = settings_array(self.params)
-        self._out = np.zeros(kernel.OUT_SIZE)
+        self._settings = self.params.pack()
         self._path: Path | None = None
         self._along = np.zeros(1)
         self.closest_index = 0
@@ -92,10 +107,8 @@ class RegulatedPurePursuit:
     def set_speed_limit(self, limit: SpeedLimit | None) -> None:
         """Nav2's ``setSpeedLimit``: the top speed becomes ``desired_linear_vel`` limited by
         ``limit`` (a percentage of it, or m/s; None or 0 restores it)."""
-        settings = self._settings.copy()
-        settings[kernel.DESIRED_LINEAR_VEL] = applied_speed(limit, self.params.desired_linear_vel)
-        settings.setflags(write=False)
-        self._settings = settings
+        speed = applied_speed(limit, self.params.desired_linear_vel)
+        self._settings = self.params.pack(desired_linear_vel=speed)
 
     def reset(self) -> None:
         """Forget the current path and its pruning."""
@@ -129,77 +142,27 @@ class RegulatedPurePursuit:
             self.closest_index = 0
             self._along = path.cumulative_lengths
         x, y = pose.x, pose.y
-        status = kernel.rpp_step(
+        step = kernel.rpp_step(
             path.poses,
             self._along,
             self.closest_index,
-            x,
-            y,
-            pose.yaw,
-            velocity[0],
-            velocity[1],
+            (x, y, pose.yaw),
+            velocity,
             costmap.data,
-            costmap.origin_x,
-            costmap.origin_y,
-            costmap.resolution,
-            costmap.inscribed_radius,
+            costmap.pack(),
             self._settings,
-            self._out,
         )
-        closest, linear, angular, carrot_x, carrot_y, extent = self._out.tolist()
-        self.closest_index = int(closest)
-        if status == kernel.NO_POSE_NEAR:
+        self.closest_index = step.closest
+        if step.status == kernel.NO_POSE_NEAR:
             raise NavigationError(
                 FollowPathError.INVALID_PATH,
-                f"no path pose within {extent:.2f} m of ({x:.2f}, {y:.2f})",
+                f"no path pose within {step.extent:.2f} m of ({x:.2f}, {y:.2f})",
             )
-        self.last_carrot = (carrot_x, carrot_y)
-        if status == kernel.COLLISION_AHEAD:
+        self.last_carrot = (step.carrot_x, step.carrot_y)
+        linear, angular = step.linear, step.angular
+        if step.status == kernel.COLLISION_AHEAD:
             raise CollisionAheadError(
                 f"projected motion ({linear:.2f} m/s, {angular:.2f} rad/s) from "
                 f"({x:.2f}, {y:.2f}) collides before the carrot"
             )
         return linear, angular
-
-
-_KERNEL_SETTINGS = (
-    "desired_linear_vel",
-    "max_angular_vel",
-    "lookahead_dist",
-    "min_lookahead_dist",
-    "max_lookahead_dist",
-    "lookahead_time",
-    "use_velocity_scaled_lookahead_dist",
-    "use_interpolation",
-    "use_rotate_to_heading",
-    "rotate_to_heading_min_angle",
-    "rotate_to_heading_angular_vel",
-    "max_angular_accel",
-    "use_regulated_linear_velocity_scaling",
-    "regulated_linear_scaling_min_radius",
-    "regulated_linear_scaling_min_speed",
-    "use_cost_regulated_linear_velocity_scaling",
-    "cost_scaling_dist",
-    "cost_scaling_gain",
-    "inflation_cost_scaling_factor",
-    "min_approach_linear_velocity",
-    "approach_velocity_scaling_dist",
-    "use_collision_detection",
-    "max_allowed_time_to_collision_up_to_carrot",
-    "goal_dist_tol",
-    "controller_frequency",
-)
-"""The parameters the kernel reads as they are (its constants name their indices)."""
-
-
-def settings_array(params: RegulatedPurePursuitParams) -> np.ndarray:
-    """``params`` as the float array :func:`~baobab.nav.rpp_kernel.rpp_step` reads: each
-    parameter at the index of the kernel constant of its name in capitals."""
-    settings = np.zeros(kernel.SETTINGS_SIZE)
-    for name in _KERNEL_SETTINGS:
-        settings[getattr(kernel, name.upper())] = getattr(params, name)
-    # ``max_robot_pose_search_dist or extent``: None and 0 both mean the half extent.
-    settings[kernel.MAX_ROBOT_POSE_SEARCH_DIST] = params.max_robot_pose_search_dist or math.nan
-    settings[kernel.SQUARE_EXPONENT] = 2.0
-    settings.setflags(write=False)
-    return settings

@@ -8,6 +8,11 @@ recovery behaviours, and at most one running task. Every task method returns a
 
 - local costmap update 5 Hz, global costmap update 1 Hz (each takes the latest scan, Nav2's
   ``observation_persistence`` 0);
+- a costmap clear (the tree's ClearEntireCostmap recoveries, ``clear_costmaps``) resets the
+  obstacle layers and marks the latest scan again at once. Nav2's planner and controller wait
+  after a clear until the costmap is current again (``waitForCostmap``), and its next update
+  marks the latest observation again, so neither ever plans or drives on a costmap that has
+  forgotten what the lidar sees; a clear forgets only what it no longer sees;
 - the active task's tick at the controller rate (20 Hz; behaviours cycle at 10 Hz).
 
 Goals while a task runs are preempted, or replace the running task, as Nav2's action servers
@@ -135,7 +140,7 @@ class NavigationServer:
             self.local_costmap,
             p.behaviors,
             self.teleop_input,
-            clear_costmaps=self.costmap_updates.clear_and_remark,
+            clear_costmaps=self.clear_costmaps,
             teleop_stats=self.teleop_stats,
         )
         self.metrics = NavigationMetrics()
@@ -345,8 +350,13 @@ class NavigationServer:
         return smoothed
 
     def clear_costmaps(self, which: str = "all") -> None:
-        """Clear the obstacle layers of the ``local``, ``global`` or ``all`` costmaps."""
-        self.costmap_updates.clear(which)
+        """Clear the obstacle layers of the ``local``, ``global`` or ``all`` costmaps, then mark
+        the latest scan again: what the lidar still sees stays (see the module docstring).
+
+        Raises:
+            ValueError: for any other name.
+        """
+        self.costmap_updates.clear_and_remark(which)
 
     def global_costmap(self) -> Costmap2D:
         """The global costmap, up to date."""

@@ -15,38 +15,47 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from baobab.nav.costmap import MAX_NON_OBSTACLE, NO_INFORMATION, Costmap2D
+from baobab.nav.costmap import GRID, MAX_NON_OBSTACLE, NO_INFORMATION, Costmap2D
 from baobab.nav.path import Path
+from baobab.sim.records import record
 
 CONVERGED = 0
 COLLISION = 1
 MAX_ITERATIONS = 2
 
 
+SMOOTHER = np.dtype(
+    [
+        ("tolerance", np.float64),  # a sweep that moves the points less in all (m) converged
+        ("max_its", np.int64),  # sweeps before giving up
+        ("w_data", np.float64),  # pull towards the original path
+        ("w_smooth", np.float64),  # pull towards the neighbours' midpoint
+    ]
+)
+"""One smoothing round's settings, one field per :class:`SimpleSmoother` field of the same name."""
+
+
 @numba.njit(cache=True, nogil=True)
 def _smooth_round(
-    data: np.ndarray,
-    grid: np.ndarray,
-    origin_x: float,
-    origin_y: float,
-    resolution: float,
-    w_data: float,
-    w_smooth: float,
-    tolerance: float,
-    max_its: int,
+    data: np.ndarray, cells: np.ndarray, grid: np.ndarray, settings: np.ndarray
 ) -> tuple[int, np.ndarray]:  # pragma: no cover - compiled
     """Sweep until converged; on a collision, the points as they were before that sweep.
 
-    The neighbours travel in registers from one point to the next (the point before was
-    just moved, the point after not yet), so a sweep waits on no memory round trip; the
-    sweep's old values are kept for the undo.
+    ``data`` is the path's points (N, 2) (m); ``cells`` and ``grid`` (a
+    :data:`~baobab.nav.costmap.GRID` record) the costmap (no cells: nothing collides);
+    ``settings`` a :data:`SMOOTHER` record. The neighbours travel in registers from one point
+    to the next (the point before was just moved, the point after not yet), so a sweep waits
+    on no memory round trip; the sweep's old values are kept for the undo.
     """
+    g, s = grid[0], settings[0]
+    w_data, w_smooth, tolerance, max_its = s.w_data, s.w_smooth, s.tolerance, s.max_its
+    origin_x, origin_y, resolution = g.origin_x, g.origin_y, g.resolution
     new = data.copy()
     n = data.shape[0]
     if n < 3:
         return CONVERGED, new
     replaced = np.empty_like(data)
-    height, width = grid.shape
+    height, width = cells.shape
     change = tolerance
     its = 0
     while change >= tolerance:
@@ -69,7 +78,7 @@ def _smooth_round(
             col = int(np.floor((moved_x - origin_x) / resolution))
             row = int(np.floor((moved_y - origin_y) / resolution))
             if 0 <= row < height and 0 <= col < width:
-                cost = grid[row, col]
+                cost = cells[row, col]
                 if cost > MAX_NON_OBSTACLE and cost != NO_INFORMATION:
                     for k in range(1, i + 1):
                         new[k, 0], new[k, 1] = replaced[k, 0], replaced[k, 1]
@@ -98,6 +107,10 @@ class SimpleSmoother:
     do_refinement: bool = True
     refinement_num: int = 2
 
+    def pack(self) -> np.ndarray:
+        """The settings of one smoothing round as a :data:`SMOOTHER` record."""
+        return record(SMOOTHER, self)
+
     def smooth(self, path: Path, costmap: Costmap2D | None = None) -> SmoothResult:
         """Smooth ``path``, keeping every moved point out of lethal and inscribed cells.
 
@@ -107,24 +120,15 @@ class SimpleSmoother:
         if len(path) < 3:
             return SmoothResult(path, True)
         if costmap is None:
-            grid = np.zeros((0, 0), dtype=np.uint8)
-            origin, resolution = (0.0, 0.0), 1.0
+            cells = np.zeros((0, 0), dtype=np.uint8)
+            grid = record(GRID, origin_x=0.0, origin_y=0.0, resolution=1.0, inscribed_radius=0.0)
         else:
-            grid, origin, resolution = costmap.data, costmap.origin, costmap.resolution
+            cells, grid = costmap.data, costmap.pack()
+        settings = self.pack()
         points = np.ascontiguousarray(path.xy, dtype=float)
         completed = True
         for _ in range(1 + (self.refinement_num if self.do_refinement else 0)):
-            status, points = _smooth_round(
-                points,
-                grid,
-                origin[0],
-                origin[1],
-                resolution,
-                self.w_data,
-                self.w_smooth,
-                self.tolerance,
-                self.max_its,
-            )
+            status, points = _smooth_round(points, cells, grid, settings)
             if status != CONVERGED:
                 completed = False
                 break

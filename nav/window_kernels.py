@@ -4,11 +4,21 @@
 combined, then every cell takes the cost of the squared distance (in cells) to its nearest
 lethal cell. That distance is exact and separable: the vertical gap to the nearest lethal
 cell of each column, then the minimum over the row neighbours within the inflation reach of
-``dx^2 + gap^2``. The kernels do the same float operations, in the same order, as the
-straightforward formulas they replace, so their results are bit for bit those formulas'.
+``dx^2 + gap^2``.
+
+Compiled instead of ``scipy.ndimage.distance_transform_edt`` (the reference the tests compare
+every cell with, ``tests/test_costmap_kernels.py``) because a costmap update touches a few
+small rectangles around the changed cells: scipy would transform the whole window each time,
+and the combining and table lookups around it would be a dozen numpy passes per rectangle.
+
+The kernels read named records (:mod:`baobab.sim.records`): the window's placement and
+settings (:data:`WINDOW`), the layers' arrays (:class:`Layers`) and scratch (:class:`Scratch`).
+A rectangle of cells is ``(x0, y0, x1, y1)``, end exclusive.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -20,13 +30,55 @@ from baobab.nav.costmap import (
     NO_INFORMATION,
 )
 from baobab.nav.raytrace_kernels import include_cell
+from baobab.sim.records import Record
+
+WINDOW = np.dtype(
+    [
+        ("raster_x0", np.int64),  # the window's lattice offset in the static raster (cells)
+        ("raster_y0", np.int64),
+        ("use_static", np.bool_),  # the costmap has a static layer
+        ("use_obstacle", np.bool_),  # and an obstacle layer
+        ("margin", np.int64),  # cells a lethal cell's inflation reaches
+        ("reach", np.int64),  # cells beyond which the cost table is free (<= margin)
+    ],
+    align=True,
+)
+"""Where a layered costmap's window lies and which layers it combines."""
+
+Rect = tuple[int, int, int, int]
+"""A rectangle of cells ``(x0, y0, x1, y1)``, end exclusive."""
+
+
+class Layers(NamedTuple):
+    """The arrays a master refresh reads and writes (cells ``[iy, ix]``, ``uint8``)."""
+
+    master: np.ndarray
+    """The combined, inflated costmap: written."""
+    raster: np.ndarray
+    """The static layer's whole raster (lethal beyond it)."""
+    obstacle: np.ndarray
+    """The obstacle layer's cells, shaped like the master."""
+    table: np.ndarray
+    """Inflation cost by squared cell distance; free at its last index and beyond ``reach``."""
+
+
+class Scratch(NamedTuple):
+    """Work space of :func:`refresh_window`, each at least the window grown by ``margin`` on
+    every side."""
+
+    gap: np.ndarray
+    """``int32``."""
+    base: np.ndarray
+    """``uint8``."""
+    costs: np.ndarray
+    """``uint8``."""
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def _static_cost(raster: np.ndarray, use_static: bool, sx: int, sy: int) -> int:  # pragma: no cover
+def _static_cost(raster: np.ndarray, w: Record, sx: int, sy: int) -> int:  # pragma: no cover
     """The static layer's cost at raster cell (``sx``, ``sy``): lethal beyond the raster, free
-    when the costmap has no static layer."""
-    if not use_static:
+    when the costmap has no static layer (``w`` a :data:`WINDOW` record)."""
+    if not w.use_static:
         return FREE_SPACE
     raster_h, raster_w = raster.shape
     if 0 <= sx < raster_w and 0 <= sy < raster_h:
@@ -37,26 +89,25 @@ def _static_cost(raster: np.ndarray, use_static: bool, sx: int, sy: int) -> int:
 @numba.njit(cache=True, nogil=True)
 def base_change_bounds(
     obstacle: np.ndarray,
+    raster: np.ndarray,
+    window: np.ndarray,
     changed_index: np.ndarray,
     changed_old: np.ndarray,
-    count: int,
-    raster: np.ndarray,
-    raster_x0: int,
-    raster_y0: int,
-    use_static: bool,
     bounds: np.ndarray,
 ) -> bool:  # pragma: no cover - compiled
     """Bounds of the changed obstacle cells whose combined (static max obstacle) value changed.
 
-    ``raster_x0, raster_y0`` is the window's lattice offset in the static raster (lethal
-    beyond it). Writes ``(ix0, iy0, ix1, iy1)`` to ``bounds``; returns whether any changed.
+    ``changed_index`` holds ``iy * width + ix`` of each changed cell, ``changed_old`` its old
+    value; ``window`` is the :data:`WINDOW` record. Writes ``(ix0, iy0, ix1, iy1)`` to
+    ``bounds``; returns whether any changed.
     """
+    w = window[0]
     width = obstacle.shape[1]
     found = False
-    for e in range(count):
+    for e in range(changed_index.shape[0]):
         index = changed_index[e]
         iy, ix = index // width, index % width
-        static = _static_cost(raster, use_static, raster_x0 + ix, raster_y0 + iy)
+        static = _static_cost(raster, w, w.raster_x0 + ix, w.raster_y0 + iy)
         if max(static, changed_old[e]) == max(static, obstacle[iy, ix]):
             continue
         include_cell(bounds, ix, iy, not found)
@@ -67,26 +118,24 @@ def base_change_bounds(
 @numba.njit(cache=True, nogil=True)
 def _inflate_rows(
     gap: np.ndarray,
-    rows: int,
-    cols: int,
+    size: tuple[int, int],
     reach: int,
-    row0: int,
-    row1: int,
-    col0: int,
-    col1: int,
+    rect: Rect,
     table: np.ndarray,
     out: np.ndarray,
 ) -> None:  # pragma: no cover - compiled
-    """Inflation cost of cells ``[row0, row1) x [col0, col1)`` of a window, from column gaps.
+    """Inflation cost of the cells ``rect`` of a window, from column gaps.
 
-    First ``gap[:rows, :cols]`` holds 0 on lethal cells and a positive value elsewhere; it
-    becomes each cell's vertical distance to the nearest lethal cell of its column (capped at
-    the largest starting value, which must be at least ``reach + 1``). The cost of a cell is
-    ``table[min(d2, last)]`` for ``d2`` the squared distance to its nearest lethal cell; the
-    table must be ``FREE`` for every ``d2 > reach^2``, so lethal cells more than ``reach``
-    cells away in x or y do not matter. Cells within ``reach`` of the output must lie in the
-    window. ``out[i - row0, j - col0]`` gets the costs.
+    First ``gap[:rows, :cols]`` (``size = (cols, rows)``) holds 0 on lethal cells and a
+    positive value elsewhere; it becomes each cell's vertical distance to the nearest lethal
+    cell of its column (capped at the largest starting value, which must be at least
+    ``reach + 1``). The cost of a cell is ``table[min(d2, last)]`` for ``d2`` the squared
+    distance to its nearest lethal cell; the table must be ``FREE`` for every ``d2 > reach^2``,
+    so lethal cells more than ``reach`` cells away in x or y do not matter. Cells within
+    ``reach`` of ``rect`` must lie in the window. ``out[iy - y0, ix - x0]`` gets the costs.
     """
+    cols, rows = size
+    col0, row0, col1, row1 = rect
     for r in range(1, rows):
         above, row = gap[r - 1], gap[r]
         for c in range(cols):
@@ -131,71 +180,57 @@ def inflation_costs(
             if lethal[i, j]:
                 gap[reach + i, reach + j] = 0
     out = np.empty((h, w), dtype=np.uint8)
-    _inflate_rows(
-        gap, h + 2 * reach, w + 2 * reach, reach, reach, reach + h, reach, reach + w, table, out
-    )
+    size, inner = (w + 2 * reach, h + 2 * reach), (reach, reach, reach + w, reach + h)
+    _inflate_rows(gap, size, reach, inner, table, out)
     return out
 
 
 @numba.njit(cache=True, nogil=True)
 def refresh_window(
-    master: np.ndarray,
-    raster: np.ndarray,
-    raster_x0: int,
-    raster_y0: int,
-    use_static: bool,
-    obstacle: np.ndarray,
-    use_obstacle: bool,
-    x0: int,
-    y0: int,
-    x1: int,
-    y1: int,
-    margin: int,
-    reach: int,
-    table: np.ndarray,
-    gap: np.ndarray,
-    base: np.ndarray,
-    costs: np.ndarray,
+    layers: Layers, window: np.ndarray, rect: Rect, scratch: Scratch
 ) -> None:  # pragma: no cover - compiled
-    """Recompute master cells ``[x0, x1) x [y0, y1)`` from the static and obstacle layers.
+    """Recompute the master cells ``rect`` from the static and obstacle layers.
 
     A cell's combined value is the static raster's (lethal beyond the raster; free without a
     static layer) or, where larger, the obstacle layer's (inside the window only). Its master
     value is the larger of that and its inflation cost, except that an unknown cell only takes
     an inscribed or lethal inflation (Nav2's rule). Lethal cells up to ``margin`` cells beyond
-    the rectangle count. ``gap``, ``base`` and ``costs`` are scratch at least
-    ``(y1 - y0 + 2 margin, x1 - x0 + 2 margin)`` big.
+    the rectangle count. ``window`` is the :data:`WINDOW` record.
     """
+    w = window[0]
+    master, raster, obstacle = layers.master, layers.raster, layers.obstacle
+    gap, base, costs = scratch.gap, scratch.base, scratch.costs
+    x0, y0, x1, y1 = rect
+    margin = w.margin
     height, width = master.shape
     raster_h, raster_w = raster.shape
     ix0, iy0 = x0 - margin, y0 - margin
     cols, rows = x1 - x0 + 2 * margin, y1 - y0 + 2 * margin
-    cap = reach + 1
+    cap = w.reach + 1
     # Static cells where the rectangle meets the raster (lethal elsewhere), obstacle cells
     # where it meets the window, as row slices.
-    rx0 = raster_x0 + ix0
+    rx0 = w.raster_x0 + ix0
     static_c0, static_c1 = max(-rx0, 0), min(raster_w - rx0, cols)
     obstacle_c0, obstacle_c1 = max(-ix0, 0), min(width - ix0, cols)
     for r in range(rows):
         gy = iy0 + r
-        sy = raster_y0 + gy
+        sy = w.raster_y0 + gy
         row = base[r]
-        if use_static:
+        if w.use_static:
             row[:cols] = LETHAL_OBSTACLE
             if 0 <= sy < raster_h and static_c0 < static_c1:
                 row[static_c0:static_c1] = raster[sy, rx0 + static_c0 : rx0 + static_c1]
         else:
             row[:cols] = FREE_SPACE
-        if use_obstacle and 0 <= gy < height and obstacle_c0 < obstacle_c1:
+        if w.use_obstacle and 0 <= gy < height and obstacle_c0 < obstacle_c1:
             cells = obstacle[gy, ix0 + obstacle_c0 : ix0 + obstacle_c1]
             for c in range(obstacle_c1 - obstacle_c0):
                 row[obstacle_c0 + c] = max(row[obstacle_c0 + c], cells[c])
         lethal_gap = gap[r]
         for c in range(cols):
             lethal_gap[c] = 0 if row[c] == LETHAL_OBSTACLE else cap
-    _inflate_rows(
-        gap, rows, cols, reach, margin, rows - margin, margin, cols - margin, table, costs
-    )
+    inner = (margin, margin, cols - margin, rows - margin)
+    _inflate_rows(gap, (cols, rows), w.reach, inner, layers.table, costs)
     for i in range(y1 - y0):
         values = base[margin + i, margin : margin + x1 - x0]
         inflated = costs[i]
@@ -233,21 +268,20 @@ def shift_grid(data: np.ndarray, dix: int, diy: int, fill: int) -> None:  # prag
 @numba.njit(cache=True, nogil=True)
 def dropped_base_bounds(
     obstacle: np.ndarray,
+    raster: np.ndarray,
+    window: np.ndarray,
     dix: int,
     diy: int,
-    raster: np.ndarray,
-    raster_x0: int,
-    raster_y0: int,
-    use_static: bool,
     bounds: np.ndarray,
 ) -> bool:  # pragma: no cover - compiled
     """Bounds of the obstacle cells a window move by ``(dix, diy)`` drops that raised a cell.
 
     A dropped cell matters when it made its combined cell (static max obstacle) larger than
-    the static cell alone. ``raster_x0, raster_y0`` is the window's lattice offset in the
-    static raster before the move. Bounds ``(ix0, iy0, ix1, iy1)`` go to ``bounds`` in the
-    window's cells before the move; returns whether there are any.
+    the static cell alone. ``window`` is the :data:`WINDOW` record before the move. Bounds
+    ``(ix0, iy0, ix1, iy1)`` go to ``bounds`` in the window's cells before the move; returns
+    whether there are any.
     """
+    w = window[0]
     height, width = obstacle.shape
     kept_x0, kept_x1 = max(dix, 0), width + min(dix, 0)
     kept_y0, kept_y1 = max(diy, 0), height + min(diy, 0)
@@ -264,7 +298,7 @@ def dropped_base_bounds(
                 value = obstacle[iy, ix]
                 if value == FREE_SPACE:
                     continue
-                static = _static_cost(raster, use_static, raster_x0 + ix, raster_y0 + iy)
+                static = _static_cost(raster, w, w.raster_x0 + ix, w.raster_y0 + iy)
                 if value <= static:
                     continue
                 include_cell(bounds, ix, iy, not found)
@@ -274,21 +308,7 @@ def dropped_base_bounds(
 
 @numba.njit(cache=True, nogil=True)
 def refresh_window_static(
-    master: np.ndarray,
-    raster: np.ndarray,
-    static_costs: np.ndarray,
-    raster_x0: int,
-    raster_y0: int,
-    use_static: bool,
-    obstacle: np.ndarray,
-    use_obstacle: bool,
-    x0: int,
-    y0: int,
-    x1: int,
-    y1: int,
-    reach: int,
-    table: np.ndarray,
-    costs: np.ndarray,
+    layers: Layers, static_costs: np.ndarray, window: np.ndarray, rect: Rect, costs: np.ndarray
 ) -> bool:  # pragma: no cover - compiled
     """:func:`refresh_window` from the static layer's own inflation plus the obstacles'.
 
@@ -300,6 +320,11 @@ def refresh_window_static(
     ``reach`` of the rectangle: it would hide a static lethal cell, so the caller must use
     :func:`refresh_window`. ``costs`` is scratch of at least the rectangle's size.
     """
+    w = window[0]
+    master, raster, obstacle, table = layers.master, layers.raster, layers.obstacle, layers.table
+    x0, y0, x1, y1 = rect
+    reach, raster_x0, raster_y0 = w.reach, w.raster_x0, w.raster_y0
+    use_static, use_obstacle = w.use_static, w.use_obstacle
     height, width = master.shape
     raster_h, raster_w = raster.shape
     last = table.shape[0] - 1
@@ -329,7 +354,7 @@ def refresh_window_static(
                 value = obstacle[oy, ox]
                 if value != LETHAL_OBSTACLE:
                     continue
-                static = _static_cost(raster, use_static, raster_x0 + ox, raster_y0 + oy)
+                static = _static_cost(raster, w, raster_x0 + ox, raster_y0 + oy)
                 if static >= LETHAL_OBSTACLE:
                     continue  # already lethal in the static costs, or hidden by unknown
                 for i in range(max(oy - reach, y0), min(oy + reach + 1, y1)):

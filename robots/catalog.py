@@ -1,8 +1,8 @@
 """The robots a mission may name, with the facts validation needs before any physics.
 
-Figures are DESIGN §5 (TurtleBot3 Burger) and the bundled Panda scene
-(``sim/worlds/panda_table.xml``: a table and a 5 cm cube named ``cube``). Importing this module
-loads nothing else: ``baobab validate`` reads it without MuJoCo.
+Figures are the TurtleBot3 Burger's (:data:`baobab.robots.turtlebot3.model.BURGER`) and the bundled
+Panda scene's (``sim/worlds/panda_table.xml``: a table and a 5 cm cube named ``cube``). Importing
+this module loads nothing else: ``baobab validate`` reads it without MuJoCo.
 """
 
 from __future__ import annotations

@@ -1,8 +1,14 @@
-"""The root of baobab's exceptions and the ones raised below the mission layer."""
+"""The root of baobab's exceptions, the ones raised below the mission layer, and one-line messages.
+
+Messages about a user's input are one line (:func:`one_line`), echo values cut to a readable
+length (:func:`clip`) and name the valid choices of a wrong name with its near miss
+(:func:`unknown_name`).
+"""
 
 from __future__ import annotations
 
 import unicodedata
+from collections.abc import Iterable
 from pathlib import Path
 
 MAX_MESSAGE_CHARS = 1000
@@ -50,6 +56,31 @@ def clip(value: object, limit: int = MAX_VALUE_CHARS) -> str:
     if len(text) <= limit:
         return text
     return f"{text[: limit - 3]}... ({len(text)} characters)"
+
+
+MAX_LISTED_NAMES = 40
+"""An unknown name's message lists at most this many valid names."""
+
+
+def unknown_name(what: str, name: str, valid: Iterable[str], where: str = "") -> str:
+    """``unknown <what> '<name>' [in <where>]; did you mean '<close>'? valid: a, b, c``.
+
+    The name is cut to a readable length (:func:`~baobab.sim.errors.clip`), and so is the list.
+    """
+    import difflib  # only when a name is wrong: not on every command's start-up path
+
+    names = sorted(set(valid))
+    close = (
+        difflib.get_close_matches(name, names, n=1, cutoff=0.6)
+        if len(name) <= MAX_VALUE_CHARS
+        else []
+    )
+    hint = f"; did you mean '{close[0]}'?" if close else ";"
+    place = f" in {where}" if where else ""
+    shown = [clip(valid_name) for valid_name in names[:MAX_LISTED_NAMES]]
+    if len(names) > MAX_LISTED_NAMES:
+        shown.append(f"... ({len(names) - MAX_LISTED_NAMES} more)")
+    return f"unknown {what} '{clip(name)}'{place}{hint} valid: {', '.join(shown) or '(none)'}"
 
 
 class BaobabError(Exception):

@@ -23,9 +23,25 @@ import mujoco
 import numpy as np
 
 from baobab.sim.builder import ROBOT_GROUP
-from baobab.sim.lidar_kernel import fan_directions, ranges_from_hits, scan_fan
+from baobab.sim.lidar_kernel import FAN, Fan, fan_directions, ranges_from_hits, scan_fan
+from baobab.sim.mujoco_native import geom_arrays
+from baobab.sim.records import record
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.world import Pose2D
+
+SCAN = np.dtype(
+    [
+        ("x", np.float64),  # the sensor's map-frame pose when the scan was taken (m)
+        ("y", np.float64),  # m
+        ("yaw", np.float64),  # rad
+        ("angle_min", np.float64),  # rad, sensor frame
+        ("angle_increment", np.float64),  # rad
+        ("range_min", np.float64),  # m
+        ("range_max", np.float64),  # m
+    ]
+)
+"""A :class:`LaserScan`'s figures as compiled kernels read them (:meth:`LaserScan.pack`); the
+ranges travel beside it as their own array."""
 
 
 @dataclass(frozen=True)
@@ -52,6 +68,11 @@ class LaserScan:
     def angles(self) -> np.ndarray:
         """Beam angles (rad) in the sensor frame."""
         return self.angle_min + self.angle_increment * np.arange(len(self.ranges))
+
+    def pack(self) -> np.ndarray:
+        """The scan's figures and sensor pose as a :data:`SCAN` record."""
+        pose = self.sensor_pose
+        return record(SCAN, self, x=pose.x, y=pose.y, yaw=pose.yaw)
 
 
 ScanSubscriber = Callable[[LaserScan], None]
@@ -106,23 +127,7 @@ class Lidar:
         self._site = sim.data.site(site)
         # Views made once: reading a MuJoCo array attribute builds a new view each time.
         self._site_xpos, self._site_xmat = self._site.xpos, self._site.xmat
-        model, data = sim.model, sim.data
-        self._geom_arrays = (
-            data.geom_xpos,
-            data.geom_xmat,
-            model.geom_size,
-            model.geom_rbound,
-            model.geom_type,
-            model.geom_group,
-            model.geom_matid,
-            model.geom_rgba,
-            model.mat_rgba,
-            model.geom_aabb,
-            model.geom_bodyid,
-            model.body_bvhadr,
-            model.bvh_aabb,
-            data.xipos,
-        )
+        self._geom = geom_arrays(sim.model, sim.data)  # valid while sim lives
         self.site_name = site
         self.frame_id = frame_id
         self.beams = beams
@@ -132,14 +137,20 @@ class Lidar:
         self.angle_min = 0.0
         self.angle_increment = 2 * math.pi / beams
         self.angle_max = self.angle_min + (beams - 1) * self.angle_increment
-        angles = self.angle_min + self.angle_increment * np.arange(beams)
-        self._local_directions = np.stack((np.cos(angles), np.sin(angles), np.zeros(beams)), axis=1)
-        self._directions = np.empty((beams, 3))
-        self._origin = np.empty(3)
+        angles = (self.angle_min + self.angle_increment * np.arange(beams)).tolist()
+        # The C library's cos and sin, as compiled code calls them (numpy has its own).
+        local = [(math.cos(angle), math.sin(angle), 0.0) for angle in angles]
+        geomgroup = np.ones(mujoco.mjNGROUP, dtype=np.uint8)
+        geomgroup[exclude_group] = 0
+        self._fan = Fan(
+            local=np.array(local),
+            geomgroup=geomgroup,
+            origin=np.empty(3),
+            directions=np.empty((beams, 3)),
+            best=np.empty(beams),
+        )
+        self._settings = self.pack()
         self._geom_ids = np.empty(beams, dtype=np.int32)
-        self._distances = np.empty(beams)
-        self._geomgroup = np.ones(mujoco.mjNGROUP, dtype=np.uint8)
-        self._geomgroup[exclude_group] = 0
         self._no_ranges = np.empty(0)
         self._subscribers: list[ScanSubscriber] = []
         self.latest: LaserScan | None = None
@@ -147,6 +158,10 @@ class Lidar:
         self.silenced = False
         """While True (a dropout fault) no scan is taken or published; ``latest`` grows old."""
         self.handle: PeriodicHandle = sim.every(1.0 / rate, self._on_tick, name=f"lidar {site}")
+
+    def pack(self) -> np.ndarray:
+        """The beam layout and range limits as the caster's :data:`~.lidar_kernel.FAN` record."""
+        return record(FAN, self)
 
     def subscribe(self, subscriber: ScanSubscriber) -> None:
         """Call ``subscriber(scan)`` with every scan from now on."""
@@ -159,30 +174,17 @@ class Lidar:
 
     def scan(self) -> LaserScan:
         """Cast the beams from the site's current pose and return the scan (no callbacks)."""
-        ranges = self._no_ranges
+        ranges, fan = self._no_ranges, self._fan
         if self.noise_std == 0:
-            ranges = scan_fan(
-                self._site_xpos,
-                self._site_xmat,
-                self._local_directions,
-                self._origin,
-                self._directions,
-                self.angle_min,
-                self.angle_increment,
-                self._geom_arrays,
-                self._geomgroup,
-                self.range_min,
-                self.range_max,
-                self._distances,
-            )
+            ranges = scan_fan(self._site_xpos, self._site_xmat, fan, self._settings, self._geom)
         if ranges.shape[0] == 0:  # noisy, or a geom type the compiled caster does not take
-            np.copyto(self._origin, self._site_xpos)
-            fan_directions(self._site_xmat, self._local_directions, self._directions)
+            np.copyto(fan.origin, self._site_xpos)
+            fan_directions(self._site_xmat, fan.local, fan.directions)
             noise = self._no_ranges
             if self.noise_std > 0:
                 noise = self._sim.rng.normal(0.0, self.noise_std, self.beams)
             self._multi_ray()
-            ranges = ranges_from_hits(self._distances, noise, self.range_min, self.range_max)
+            ranges = ranges_from_hits(fan.best, noise, self.range_min, self.range_max)
         rotation = self._site_xmat
         return LaserScan(
             stamp=self._sim.time,
@@ -194,29 +196,30 @@ class Lidar:
             range_max=self.range_max,
             ranges=ranges,
             sensor_pose=Pose2D(
-                x=float(self._origin[0]),
-                y=float(self._origin[1]),
+                x=float(fan.origin[0]),
+                y=float(fan.origin[1]),
                 yaw=math.atan2(rotation[3], rotation[0]),
             ),
         )
 
     def _multi_ray(self) -> None:
-        """Fill ``_distances`` with ``mj_multiRay`` (-1 where a beam hits nothing)."""
+        """Fill the fan's hit distances with ``mj_multiRay`` (-1 where a beam hits nothing)."""
+        fan = self._fan
         mujoco.mj_multiRay(
             self._sim.model,
             self._sim.data,
-            self._origin,
-            self._directions.reshape(-1),
-            self._geomgroup,
+            fan.origin,
+            fan.directions.reshape(-1),
+            fan.geomgroup,
             1,
             -1,
             self._geom_ids,
-            self._distances,
+            fan.best,
             None,
             self.beams,
             self.range_max,
         )
-        self._distances[self._geom_ids < 0] = -1.0
+        fan.best[self._geom_ids < 0] = -1.0
 
     def _on_tick(self, _time: float) -> None:
         if self.silenced:

@@ -4,7 +4,10 @@
 planar fan most of those tests are misses or hits behind a nearer one. :func:`cast_fan` calls
 MuJoCo's own primitive intersection (``mju_rayGeom``, the function ``mj_multiRay`` uses) for
 each beam and geom that can matter, so every range is bit for bit the one ``mj_multiRay``
-returns. A (beam, geom) pair is skipped only when no skip can change a reported range:
+returns for the same beams; the tests compare the two on random poses of every bundled world
+(``tests/test_lidar.py``). Compiled because the culling loops over geoms and beams: in
+Python they would cost more than the rays they save. A (beam, geom) pair is skipped only when
+no skip can change a reported range:
 
 - geoms ``mj_multiRay`` eliminates: hidden ones (alpha 0) and those of excluded groups;
 - beams outside the geom's bounding sphere: the fan lies in the sensor's x-y plane, so a
@@ -13,23 +16,24 @@ returns. A (beam, geom) pair is skipped only when no skip can change a reported 
 - hits farther than ``reach``: they read ``inf`` anyway. (With range noise they would not
   all do so: ``mj_multiRay`` returns some hits beyond its cutoff, and noise can bring them
   back in range. A noisy scanner therefore uses ``mj_multiRay`` itself.)
+
+The kernels read named records (:mod:`baobab.sim.records`): the scanner's figures
+(:data:`FAN`), its beams and results (:class:`Fan`) and where MuJoCo's arrays live
+(:data:`~baobab.sim.mujoco_native.GEOM_ARRAYS`, read as
+:class:`~baobab.sim.mujoco_native.GeomArrays`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from typing import Any, TypeAlias, cast
+from typing import NamedTuple
 
-import llvmlite.ir
 import mujoco
 import numba
 import numpy as np
-from numba import types
-from numba.core import cgutils
-from numba.extending import intrinsic
 
-from baobab.sim.mujoco_native import ray_geom
+from baobab.sim.mujoco_native import GeomArrays, geom_views, ray_geom
+from baobab.sim.records import Record
 
 _PLANE = int(mujoco.mjtGeom.mjGEOM_PLANE)
 _CYLINDER = int(mujoco.mjtGeom.mjGEOM_CYLINDER)
@@ -41,40 +45,37 @@ _GROUPS = int(mujoco.mjNGROUP)
 _SLACK = 1e-6
 """Widening (m) of every bound, far above the rounding of the beam directions (~1e-16)."""
 
-
-@intrinsic
-def _fma_intrinsic(typingctx: Any, a: Any, b: Any, c: Any) -> Any:  # pragma: no cover
-    signature = types.float64(types.float64, types.float64, types.float64)
-
-    def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
-        double = llvmlite.ir.DoubleType()
-        function_type = llvmlite.ir.FunctionType(double, [double, double, double])
-        fma = cgutils.get_or_insert_function(builder.module, function_type, "llvm.fma.f64")
-        return builder.call(fma, args)
-
-    return signature, codegen
+FAN = np.dtype(
+    [
+        ("angle_min", np.float64),  # sensor-frame angle of beam 0 (rad)
+        ("angle_increment", np.float64),  # rad between beams
+        ("range_min", np.float64),  # nearer hits read inf (m)
+        ("range_max", np.float64),  # farther hits read inf (m)
+    ]
+)
+"""A scanner's beam layout and range limits (:meth:`~baobab.sim.lidar.Lidar.pack`)."""
 
 
-_fma = cast(Callable[[float, float, float], float], _fma_intrinsic)
-"""``a * b + c`` with one rounding (compiled code only)."""
+class Fan(NamedTuple):
+    """A scanner's beams and the arrays the caster fills."""
 
-
-Geometry: TypeAlias = tuple[np.ndarray, ...]
-"""MuJoCo's arrays the caster reads, in this order: ``data.geom_xpos``, ``data.geom_xmat``,
-``model.geom_size``, ``geom_rbound``, ``geom_type``, ``geom_group``, ``geom_matid``,
-``geom_rgba``, ``mat_rgba``, ``geom_aabb``, ``geom_bodyid``, ``body_bvhadr``, ``bvh_aabb``,
-``data.xipos``."""
+    local: np.ndarray
+    """The beams in the sensor frame (n, 3): unit vectors in its x-y plane."""
+    geomgroup: np.ndarray
+    """1 for each geom group the beams see (``mjNGROUP``,), ``uint8``."""
+    origin: np.ndarray
+    """Out: the fan's origin (3,), world frame (m)."""
+    directions: np.ndarray
+    """Out: the beams (n, 3), world frame."""
+    best: np.ndarray
+    """Out: distance (m) to each beam's nearest hit, -1 where it hits nothing (n,)."""
 
 
 @numba.njit(cache=True, nogil=True)
 def fan_directions(
     rotation: np.ndarray, local: np.ndarray, directions: np.ndarray
 ) -> None:  # pragma: no cover - compiled
-    """``directions = local @ rotation.T``, bit for bit as NumPy's matmul computes it.
-
-    NumPy hands the product to OpenBLAS, whose kernels accumulate the three terms of each
-    entry with fused multiply-adds in order; the same operations here keep every beam
-    direction, hence every range, identical to the NumPy-built scanner's.
+    """``directions = local @ rotation.T``: the beams rotated into the world frame.
 
     Args:
         rotation: the sensor's rotation matrix (9,), row-major.
@@ -85,28 +86,20 @@ def fan_directions(
         x, y, z = local[beam, 0], local[beam, 1], local[beam, 2]
         for row in range(3):
             r = rotation[3 * row : 3 * row + 3]
-            directions[beam, row] = _fma(z, r[2], _fma(y, r[1], x * r[0]))
+            directions[beam, row] = x * r[0] + y * r[1] + z * r[2]
 
 
 @numba.njit(cache=True, nogil=True)
-def _culled_like_mujoco(
-    geom: int,
-    geom_xpos: np.ndarray,
-    geom_size: np.ndarray,
-    geom_rbound: np.ndarray,
-    geom_type: np.ndarray,
-    geom_aabb: np.ndarray,
-    geom_bodyid: np.ndarray,
-    body_bvhadr: np.ndarray,
-    bvh_aabb: np.ndarray,
-    xipos: np.ndarray,
-) -> bool:  # pragma: no cover - compiled
+def _culled_like_mujoco(geom: int, geometry: GeomArrays) -> bool:  # pragma: no cover - compiled
     """Whether ``mj_multiRay``'s culling volumes still hold the geom (box and cylinder only).
 
     ``mj_multiRay`` culls with the geom's ``geom_aabb`` and its body's bounding-volume root,
-    both set when the model is compiled. A geom resized at run time (an obstacle slot) can
-    outgrow them; ``mj_multiRay`` then misses part of it, and so must the scanner.
+    both set when the model is compiled. A geom resized at run time without them (obstacle
+    slots bring theirs along) can outgrow them; ``mj_multiRay`` then misses part of it, and
+    so must the scanner.
     """
+    geom_xpos, geom_size, geom_type = geometry.geom_xpos, geometry.geom_size, geometry.geom_type
+    geom_aabb, xipos, bvh_aabb = geometry.geom_aabb, geometry.xipos, geometry.bvh_aabb
     kind = geom_type[geom]
     if kind != _BOX and kind != _CYLINDER:
         return False
@@ -118,8 +111,8 @@ def _culled_like_mujoco(
         return False
     if box[3] < extent_x or box[4] < extent_y or box[5] < extent_z:
         return False
-    body = geom_bodyid[geom]
-    node = body_bvhadr[body]
+    body = geometry.geom_bodyid[geom]
+    node = geometry.body_bvhadr[body]
     if node < 0:
         return True
     root = bvh_aabb[node]
@@ -127,7 +120,7 @@ def _culled_like_mujoco(
     dy = geom_xpos[geom, 1] - (root[1] + xipos[body, 1])
     dz = geom_xpos[geom, 2] - (root[2] + xipos[body, 2])
     radius = math.sqrt(root[3] * root[3] + root[4] * root[4] + root[5] * root[5])
-    return math.sqrt(dx * dx + dy * dy + dz * dz) + geom_rbound[geom] <= radius - _SLACK
+    return math.sqrt(dx * dx + dy * dy + dz * dz) + geometry.geom_rbound[geom] <= radius - _SLACK
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -233,98 +226,53 @@ def _corner_span(corners: np.ndarray) -> tuple[float, float, bool]:  # pragma: n
 
 
 @numba.njit(cache=True, nogil=True)
-def cast_fan(
-    origin: np.ndarray,
-    rotation: np.ndarray,
-    directions: np.ndarray,
-    angle_min: float,
-    angle_increment: float,
-    geometry: Geometry,
-    geomgroup: np.ndarray,
-    reach: float,
-    best: np.ndarray,
-) -> bool:  # pragma: no cover - compiled
-    """Nearest hit along each beam, as ``mj_multiRay(flg_static=1, bodyexclude=-1)`` finds it.
+def _geoms_in_view(
+    fan: Fan, geometry: GeomArrays, reach: float, candidates: np.ndarray, nearest: np.ndarray
+) -> int:  # pragma: no cover - compiled
+    """The geoms a beam may hit within ``reach`` (m), nearest first, and how many there are.
 
-    Args:
-        origin: the fan's origin (3,), world frame (m).
-        rotation: the sensor's rotation matrix (9,), row-major; the beams lie in its x-y plane.
-        directions: the beams (n, 3), world frame; beam ``i`` is the sensor-frame unit vector
-            at angle ``angle_min + i * angle_increment`` (rad) rotated by ``rotation``.
-        geometry: the model's and data's arrays :data:`Geometry` names, in its order.
-        geomgroup: 1 for each geom group the beams see (``mjNGROUP``,).
-        reach: hits farther than this (m) may be reported as misses.
-        best: out (n,): distance to the nearest hit, -1 where the beam hits nothing.
-
-    Returns:
-        False (with ``best`` undefined) if a geom in view is of a type this caster does not
-        handle (hfield, mesh, sdf), or has outgrown the volumes ``mj_multiRay`` culls with
-        (:func:`_culled_like_mujoco`): use ``mj_multiRay`` then.
+    Writes the geom ids to ``candidates`` and their distances from the fan's origin (a lower
+    bound, m) to ``nearest``. Returns -1 if one is of a type the caster does not handle or has
+    outgrown ``mj_multiRay``'s culling volumes (see :func:`cast_fan`).
     """
-    (
-        geom_xpos,
-        geom_xmat,
-        geom_size,
-        geom_rbound,
-        geom_type,
-        geom_group,
-        geom_matid,
-        geom_rgba,
-        mat_rgba,
-        geom_aabb,
-        geom_bodyid,
-        body_bvhadr,
-        bvh_aabb,
-        xipos,
-    ) = geometry
-    beams = directions.shape[0]
-    ngeom = geom_type.shape[0]
-    best[:] = -1.0
-    candidates = np.empty(ngeom, dtype=np.int64)
-    nearest = np.empty(ngeom)
+    origin, geom_xpos, geom_type = fan.origin, geometry.geom_xpos, geometry.geom_type
+    geom_matid, geom_rgba, mat_rgba = geometry.geom_matid, geometry.geom_rgba, geometry.mat_rgba
     offset = np.empty(3)
     count = 0
-    for geom in range(ngeom):
+    for geom in range(geom_type.shape[0]):
         material = geom_matid[geom]
         if material < 0:
             if geom_rgba[geom, 3] == 0:
                 continue
         elif mat_rgba[material, 3] == 0:
             continue
-        if geomgroup[min(_GROUPS - 1, max(0, geom_group[geom]))] == 0:
+        if fan.geomgroup[min(_GROUPS - 1, max(0, geometry.geom_group[geom]))] == 0:
             continue
         kind = geom_type[geom]
         if kind > _LAST_PRIMITIVE:
-            return False
+            return -1
         near = 0.0
         if kind != _PLANE:
             # Beyond reach by its bounding sphere: skipped before the exact test (a map's
             # walls are thousands of boxes, nearly all far away).
             dx = origin[0] - geom_xpos[geom, 0]
             dy = origin[1] - geom_xpos[geom, 1]
-            far = reach + geom_rbound[geom]
+            far = reach + geometry.geom_rbound[geom]
             if dx * dx + dy * dy > far * far:
                 continue
             for axis in range(3):
                 offset[axis] = origin[axis] - geom_xpos[geom, axis]
             near = _nearest_surface(
-                kind, offset, geom_xmat[geom], geom_size[geom], geom_rbound[geom]
+                kind,
+                offset,
+                geometry.geom_xmat[geom],
+                geometry.geom_size[geom],
+                geometry.geom_rbound[geom],
             )
             if near > reach:
                 continue
-            if not _culled_like_mujoco(
-                geom,
-                geom_xpos,
-                geom_size,
-                geom_rbound,
-                geom_type,
-                geom_aabb,
-                geom_bodyid,
-                body_bvhadr,
-                bvh_aabb,
-                xipos,
-            ):
-                return False
+            if not _culled_like_mujoco(geom, geometry):
+                return -1
         # Insertion sort, nearest first: a few dozen geoms.
         slot = count
         while slot > 0 and nearest[slot - 1] > near:
@@ -334,7 +282,42 @@ def cast_fan(
         nearest[slot] = near
         candidates[slot] = geom
         count += 1
+    return count
 
+
+@numba.njit(cache=True, nogil=True)
+def cast_fan(
+    fan: Fan, rotation: np.ndarray, f: Record, geometry: GeomArrays, reach: float
+) -> bool:  # pragma: no cover - compiled
+    """Nearest hit along each beam, as ``mj_multiRay(flg_static=1, bodyexclude=-1)`` finds it.
+
+    Args:
+        fan: the beams: ``fan.origin`` and ``fan.directions`` (world frame) are read, beam
+            ``i`` being the sensor-frame unit vector at angle ``angle_min + i *
+            angle_increment`` (rad) rotated by ``rotation``; ``fan.best`` receives the
+            distances (m), -1 where a beam hits nothing.
+        rotation: the sensor's rotation matrix (9,), row-major; the beams lie in its x-y plane.
+        f: the scanner's :data:`FAN` record.
+        geometry: the model's and data's arrays.
+        reach: hits farther than this (m) may be reported as misses.
+
+    Returns:
+        False (with ``fan.best`` undefined) if a geom in view is of a type this caster does
+        not handle (hfield, mesh, sdf), or has outgrown the volumes ``mj_multiRay`` culls with
+        (:func:`_culled_like_mujoco`): use ``mj_multiRay`` then.
+    """
+    origin, directions, best = fan.origin, fan.directions, fan.best
+    geom_xpos, geom_xmat, geom_size = geometry.geom_xpos, geometry.geom_xmat, geometry.geom_size
+    geom_rbound, geom_type = geometry.geom_rbound, geometry.geom_type
+    angle_min, angle_increment = f.angle_min, f.angle_increment
+    beams = directions.shape[0]
+    best[:] = -1.0
+    candidates = np.empty(geom_type.shape[0], dtype=np.int64)
+    nearest = np.empty(geom_type.shape[0])
+    count = _geoms_in_view(fan, geometry, reach, candidates, nearest)
+    if count < 0:
+        return False
+    offset = np.empty(3)
     origin_address = origin.ctypes.data
     directions_address = directions.ctypes.data
     xpos_address, xmat_address = geom_xpos.ctypes.data, geom_xmat.ctypes.data
@@ -424,36 +407,23 @@ def ranges_from_hits(
 def scan_fan(
     site_xpos: np.ndarray,
     site_xmat: np.ndarray,
-    local: np.ndarray,
-    origin: np.ndarray,
-    directions: np.ndarray,
-    angle_min: float,
-    angle_increment: float,
-    geometry: Geometry,
-    geomgroup: np.ndarray,
-    range_min: float,
-    range_max: float,
-    best: np.ndarray,
+    fan: Fan,
+    settings: np.ndarray,
+    geom: np.ndarray,
 ) -> np.ndarray:  # pragma: no cover - compiled
     """A whole noiseless scan from the site's pose: LaserScan ranges (m), new array.
 
-    Fills ``origin`` (3,) and ``directions`` (n, 3) from the site (see :func:`fan_directions`)
-    and ``best`` with the hit distances (see :func:`cast_fan`). Returns an empty array when
-    :func:`cast_fan` cannot handle the view (``origin`` and ``directions`` are filled anyway).
+    Fills ``fan.origin`` and ``fan.directions`` from the site (see :func:`fan_directions`)
+    and ``fan.best`` with the hit distances (see :func:`cast_fan`). ``settings`` is the
+    scanner's :data:`FAN` record, ``geom`` the model's
+    :data:`~baobab.sim.mujoco_native.GEOM_ARRAYS` record. Returns an empty array when
+    :func:`cast_fan` cannot handle the view (``fan.origin`` and ``fan.directions`` are filled
+    anyway).
     """
-    origin[:] = site_xpos
-    fan_directions(site_xmat, local, directions)
-    handled = cast_fan(
-        origin,
-        site_xmat,
-        directions,
-        angle_min,
-        angle_increment,
-        geometry,
-        geomgroup,
-        range_max + _SLACK,
-        best,
-    )
-    if not handled:
+    f = settings[0]
+    geometry = geom_views(geom)
+    fan.origin[:] = site_xpos
+    fan_directions(site_xmat, fan.local, fan.directions)
+    if not cast_fan(fan, site_xmat, f, geometry, f.range_max + _SLACK):
         return np.empty(0)
-    return ranges_from_hits(best, np.empty(0), range_min, range_max)
+    return ranges_from_hits(fan.best, np.empty(0), f.range_min, f.range_max)

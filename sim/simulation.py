@@ -33,22 +33,14 @@ _FATAL_INDICES = tuple(int(kind) for kind in _FATAL_WARNINGS)
 class _Scheduled:
     """One periodic callback: when it is next due (physics step) and how often."""
 
-    __slots__ = ("active", "callback", "catch_up", "name", "next_step", "period_steps")
+    __slots__ = ("active", "callback", "name", "next_step", "period_steps")
 
-    def __init__(
-        self,
-        next_step: int,
-        period_steps: int,
-        callback: Callback,
-        name: str,
-        catch_up: Callable[[int], None] | None = None,
-    ) -> None:
+    def __init__(self, next_step: int, period_steps: int, callback: Callback, name: str) -> None:
         self.next_step = next_step
         self.period_steps = period_steps
         self.callback = callback
         self.name = name
         self.active = True
-        self.catch_up = catch_up
 
 
 class PeriodicHandle:
@@ -70,10 +62,6 @@ class PeriodicHandle:
     def cancel(self) -> None:
         """Stop calling the callback (idempotent)."""
         self._entry.active = False
-
-
-def _no_callback(_now: float) -> None:
-    """The callback of an entry whose work runs compiled (:meth:`Simulation.add_native`)."""
 
 
 def _keep_warning(message: str) -> None:
@@ -172,17 +160,6 @@ class Simulation:
         self._next_due = min(self._next_due, entry.next_step)
         return PeriodicHandle(entry)
 
-    def add_native(self, catch_up: Callable[[int], None], *, name: str) -> PeriodicHandle:
-        """Register work that runs compiled inside ``mj_step`` (:mod:`~baobab.sim.native_control`).
-
-        Such work wakes no Python; ``catch_up(step)`` is called whenever Python wakes for
-        the periodic callbacks, in registration order among them, so that the work due at
-        this physics step is done before the callbacks registered after it read its results.
-        """
-        entry = _Scheduled(self._step, 0, _no_callback, name, catch_up)
-        self._schedule.append(entry)
-        return PeriodicHandle(entry)
-
     def step_for(self, duration: float) -> None:
         """Advance the sim by ``duration`` seconds, running due callbacks on the way.
 
@@ -226,12 +203,6 @@ class Simulation:
         while index < len(schedule):
             entry = schedule[index]
             index += 1
-            if entry.catch_up is not None:
-                if entry.active:
-                    entry.catch_up(step)
-                else:
-                    canceled = True
-                continue
             if entry.active and entry.next_step <= step:
                 try:
                     entry.callback(now)

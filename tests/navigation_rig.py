@@ -121,3 +121,18 @@ def sealed_room() -> World:
         boxes=walls,
         spawns={"default": Pose2D(x=-1.5, y=-1.5)},
     )
+
+
+def alcove() -> World:
+    """A 0.6 m wide dead end open to the east, the robot inside it."""
+    walls = [
+        Box(name="alcove_north", center=(0.0, 0.35), size=(2.4, 0.1)),
+        Box(name="alcove_south", center=(0.0, -0.35), size=(2.4, 0.1)),
+        Box(name="alcove_end", center=(-1.15, 0.0), size=(0.1, 0.6)),
+    ]
+    return World(
+        name="alcove",
+        floor=Floor(size=(6.0, 4.0)),
+        boxes=walls,
+        spawns={"default": Pose2D(x=-0.6, y=0.0)},
+    )

@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 from navigation_rig import NavRig, make_rig
 
-from baobab.missions.loader import load_mission
-from baobab.missions.runner import run_mission
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.runner import run_mission
 from baobab.nav.assisted_teleop import AssistedTeleop
 from baobab.nav.behaviors import BehaviorContext, BehaviorParams
 from baobab.nav.costmap import LETHAL_OBSTACLE, Costmap2D

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import pytest
 
-from baobab.missions.cli import main
+from baobab.missions.cli.command_line import main
 from baobab.sim import yaml_source
 from baobab.sim.yaml_source import MAX_FILE_BYTES
 

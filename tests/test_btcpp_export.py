@@ -27,15 +27,15 @@ from btcpp_harness import (
     tick_to_completion,
 )
 
+from baobab.behaviours.builtin import default_registry
 from baobab.behaviours.ports import Capabilities
-from baobab.missions.btcpp_limits import BTCPP_NODE_IDS
-from baobab.missions.btcpp_log import PY_TREES_STATUS, BtLogWriter
-from baobab.missions.btcpp_ports import msec
-from baobab.missions.cli import main
-from baobab.missions.compiler import compile_mission
-from baobab.missions.export import preorder, to_btcpp, to_btcpp_log
-from baobab.missions.loader import Mission, load_mission
-from baobab.missions.registry import default_registry
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.btcpp_limits import BTCPP_NODE_IDS
+from baobab.missions.language.btcpp_log import PY_TREES_STATUS, BtLogWriter
+from baobab.missions.language.btcpp_ports import msec
+from baobab.missions.language.compiler import compile_mission
+from baobab.missions.language.loader import Mission, load_mission
+from baobab.missions.language.tree_export import preorder, to_btcpp, to_btcpp_log
 
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
 BUNDLED = sorted(Path(str(resources.files("baobab.missions"))).glob("*.yaml"))

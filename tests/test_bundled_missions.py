@@ -8,14 +8,14 @@ from pathlib import Path
 
 import pytest
 
+from baobab.behaviours.navigation_nodes import NavigateThroughPosesParams
 from baobab.behaviours.ports import Capabilities
-from baobab.missions.compiler import compile_mission
-from baobab.missions.json_schema import mission_json_schema
-from baobab.missions.loader import load_mission
-from baobab.missions.nodes_navigation import NavigateThroughPosesParams
-from baobab.missions.plotting import MobilePlot
-from baobab.missions.run_command import resolve_mission
-from baobab.missions.runner import run_mission
+from baobab.missions.language.bundled_missions import resolve_mission
+from baobab.missions.language.compiler import compile_mission
+from baobab.missions.language.json_schema import mission_json_schema
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.plot_data import MobilePlot
+from baobab.missions.run.runner import run_mission
 
 FOLDER = Path(str(resources.files("baobab.missions")))
 BUNDLED = sorted(FOLDER.glob("*.yaml"))

@@ -26,22 +26,22 @@ import numpy as np
 import pytest
 import yaml
 
-from baobab.missions.campaign import replay_target
-from baobab.missions.campaign_exec import execute_run
-from baobab.missions.campaign_results import (
+from baobab.missions.campaigns.dispatch import replay_target
+from baobab.missions.campaigns.executors import execute_run
+from baobab.missions.campaigns.results import (
     WALL_CLOCK_COLUMNS,
     CampaignSummary,
     read_rows,
     wilson_interval,
 )
-from baobab.missions.campaign_spec import build_spec
-from baobab.missions.campaign_variant import load_run_mission, variant_of
-from baobab.missions.campaign_vary import CampaignError, variable_keys
-from baobab.missions.cli import main
-from baobab.missions.errors import MissionError
-from baobab.missions.json_schema import mission_json_schema
-from baobab.missions.loader import load_mission
-from baobab.missions.schema import SpawnObstacleEvent
+from baobab.missions.campaigns.spec import build_spec
+from baobab.missions.campaigns.variant import load_run_mission, variant_of
+from baobab.missions.campaigns.vary import CampaignError, variable_keys
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.json_schema import mission_json_schema
+from baobab.missions.language.loader import load_mission
+from baobab.missions.language.models import SpawnObstacleEvent
 
 DASH = Path(__file__).parent / "missions" / "campaign" / "dash.yaml"
 CAMPAIGN = [
@@ -63,7 +63,7 @@ CAMPAIGN = [
 BAOBAB = [
     sys.executable,
     "-c",
-    "import sys; from baobab.missions.cli import main; sys.exit(main())",
+    "import sys; from baobab.missions.cli.command_line import main; sys.exit(main())",
 ]
 
 

@@ -40,8 +40,9 @@ def reference_trace(
     height, width = out.shape
     ranges = np.asarray(scan.ranges, dtype=float)
     pose = scan.sensor_pose
-    headings = pose.yaw + scan.angles
-    cos_h, sin_h = np.cos(headings), np.sin(headings)
+    headings = (pose.yaw + scan.angles).tolist()
+    cos_h = np.array([math.cos(heading) for heading in headings])  # the C library's, as compiled
+    sin_h = np.array([math.sin(heading) for heading in headings])
     valid = ~np.isnan(ranges) & (ranges >= max(scan.range_min, 0.0))
     hit = valid & np.isfinite(ranges)
     clear_to = np.where(

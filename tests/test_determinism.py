@@ -2,6 +2,10 @@
 
 What is checked, and how it is kept affordable:
 
+- every bundled mission, run whole with its defaults and seed, gives the digest pinned in
+  ``tests/golden_digests.json``: the same bits on every machine and after every change that
+  is not meant to change a run. A change that moves a digest on purpose updates the file with
+  ``python -m tests.update_golden`` and says why in its commit;
 - every bundled mission runs twice in this process with the same seed and the same digest.
   The long missions take minutes of sim time (farm_rows about 490 s, waypoint_patrol about
   340 s), so every mission's ``timeout`` is cut to :data:`PREFIX_TIME` s of sim time for both
@@ -29,12 +33,14 @@ from pathlib import Path
 
 import pytest
 
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import Mission, load_mission
-from baobab.missions.robots_wiring import MobileRig
-from baobab.missions.runner import RunRecord, run_mission
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import Mission, load_mission
+from baobab.missions.run.rig import MobileRig
+from baobab.missions.run.runner import RunRecord, run_mission
 
 BUNDLED = sorted(Path(str(resources.files("baobab.missions"))).glob("*.yaml"))
+GOLDEN = Path(__file__).with_name("golden_digests.json")
+UPDATE = "python -m tests.update_golden"
 PREFIX_TIME = 20.0
 """Sim time (s) each bundled mission runs for in the repeat check."""
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
@@ -70,6 +76,23 @@ def _noisy(tmp_path: Path, sigma: float | None = None) -> Mission:
     return load_mission(path, None if sigma is None else {"sigma": str(sigma)})
 
 
+def _golden() -> dict[str, str]:
+    digests: dict[str, str] = json.loads(GOLDEN.read_text(encoding="utf-8"))
+    return digests
+
+
+def test_the_golden_file_pins_exactly_the_bundled_missions() -> None:
+    assert sorted(_golden()) == [path.stem for path in BUNDLED], f"run {UPDATE}"
+
+
+@pytest.mark.parametrize("path", BUNDLED, ids=lambda p: p.stem)
+def test_every_bundled_mission_gives_its_golden_digest(path: Path) -> None:
+    digest = run_mission(load_mission(path)).trace_digest
+    assert digest == _golden().get(path.stem), (
+        f"{path.stem}'s trace moved: if that is intended, run {UPDATE} and review the diff"
+    )
+
+
 @pytest.mark.parametrize("path", BUNDLED, ids=lambda p: p.stem)
 def test_every_bundled_mission_repeats_its_trace_in_one_process(path: Path) -> None:
     mission = _cut(load_mission(path))
@@ -84,8 +107,8 @@ def test_a_noisy_run_repeats_across_processes(tmp_path: Path) -> None:
     here = run_mission(mission).trace_digest
     script = (
         "import sys\n"
-        "from baobab.missions.loader import load_mission\n"
-        "from baobab.missions.runner import run_mission\n"
+        "from baobab.missions.language.loader import load_mission\n"
+        "from baobab.missions.run.runner import run_mission\n"
         "print(run_mission(load_mission(sys.argv[1])).trace_digest)\n"
     )
     env = {**os.environ, "PYTHONHASHSEED": "12345"}

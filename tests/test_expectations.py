@@ -8,16 +8,16 @@ from typing import Any
 
 import pytest
 
-from baobab.missions.errors import MissionError
-from baobab.missions.expectations import (
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import Mission, load_mission
+from baobab.missions.run.expectations import (
     ExpectationResult,
     RunEnd,
     all_passed,
     check_metric_names,
     evaluate,
 )
-from baobab.missions.loader import Mission, load_mission
-from baobab.missions.metrics import MetricRegistry
+from baobab.missions.run.metrics import MetricRegistry
 
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
 MOBILE = """

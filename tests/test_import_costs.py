@@ -36,11 +36,11 @@ VALIDATE_MUST_NOT_LOAD = (
     # pydantic's plugin discovery, skipped while plugins are disabled
     "importlib.metadata",
     # what only other commands need: `tree`, `schema`, `run`, `teleop`, `nav2`
-    "baobab.missions.export",
-    "baobab.missions.json_schema",
-    "baobab.missions.recording_hook",
-    "baobab.missions.teleop_command",
-    "baobab.missions.nav2_command",
+    "baobab.missions.language.tree_export",
+    "baobab.missions.language.json_schema",
+    "baobab.missions.run.recording_hook",
+    "baobab.missions.cli.teleop_command",
+    "baobab.missions.cli.nav2_command",
     "baobab.robots.turtlebot3.teleop_terminal",
 )
 REFUSED_RUN_MUST_NOT_LOAD = ("numpy", "scipy", "mujoco", "numba", "matplotlib", "baobab.nav")
@@ -73,14 +73,14 @@ def _matching(loaded: list[str], prefixes: tuple[str, ...]) -> list[str]:
 def test_validate_of_every_bundled_mission_loads_no_physics_plots_or_navigation() -> None:
     script = (
         "import contextlib, io, json, sys\n"
-        "from baobab.missions.cli import main\n"
+        "from baobab.missions.cli.command_line import main\n"
         "with contextlib.redirect_stdout(io.StringIO()):\n"
         f"    code = main(['validate', *{BUNDLED!r}])\n"
         "assert code == 0, code\n"
         "print(json.dumps(sorted(sys.modules)))\n"
     )
     loaded = _loaded(script)
-    assert "baobab.missions.loader" in loaded  # the check really loaded the missions
+    assert "baobab.missions.language.loader" in loaded  # the check really loaded the missions
     assert _matching(loaded, VALIDATE_MUST_NOT_LOAD) == []
 
 
@@ -88,14 +88,14 @@ def test_run_refuses_a_bad_mission_before_loading_the_simulation(tmp_path: Path)
     bad = REPO / "tests" / "bad_inputs" / "missions" / "seed_word.yaml"
     script = (
         "import contextlib, io, json, sys\n"
-        "from baobab.missions.cli import main\n"
+        "from baobab.missions.cli.command_line import main\n"
         "with contextlib.redirect_stderr(io.StringIO()):\n"
         f"    code = main(['run', {str(bad)!r}, '--out', {str(tmp_path / 'run')!r}])\n"
         "assert code == 2, code\n"
         "print(json.dumps(sorted(sys.modules)))\n"
     )
     loaded = _loaded(script)
-    assert "baobab.missions.loader" in loaded
+    assert "baobab.missions.language.loader" in loaded
     assert _matching(loaded, REFUSED_RUN_MUST_NOT_LOAD) == []
 
 
@@ -124,12 +124,12 @@ def test_a_mobile_run_reaches_its_first_tick_without_arm_or_display_modules(
     # the run's process (SystemExit reaches the parent, which exits with it).
     script = (
         "import json, sys\n"
-        "from baobab.missions import progress\n"
+        "from baobab.missions.run import progress_display as progress\n"
         "def first_tick(self, snapshot):\n"
         "    print(json.dumps(sorted(sys.modules)), flush=True)\n"
         "    raise SystemExit(0)\n"
         "progress.LineProgress.due = first_tick\n"
-        "from baobab.missions.cli import main\n"
+        "from baobab.missions.cli.command_line import main\n"
         f"main(['run', {mission!r}, '--out', {str(tmp_path / 'run')!r}])\n"
         "raise SystemExit('the mission never ticked')\n"
     )

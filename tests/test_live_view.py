@@ -15,11 +15,11 @@ from websockets.exceptions import ConnectionClosedError, InvalidStatus
 from websockets.sync.client import connect
 from websockets.typing import Subprotocol
 
-from baobab.missions.loader import load_mission
-from baobab.missions.recording_streams import ArmStreams
-from baobab.missions.recording_topics import TREE_STATUS_SCHEMA, Topics
-from baobab.missions.robots_wiring import ArmRig
-from baobab.missions.runner import RecordingOptions, run_mission
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.recording_streams import ArmStreams
+from baobab.missions.run.recording_topics import TREE_STATUS_SCHEMA, Topics
+from baobab.missions.run.rig import ArmRig
+from baobab.missions.run.runner import RecordingOptions, run_mission
 from baobab.sim.recording import LiveSink, McapSink, Recorder, Transform
 from baobab.sim.world import Pose2D
 

@@ -18,10 +18,10 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from baobab.missions import loader
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import SCHEMA_HEADER, load_mission
-from baobab.missions.schema import TOP_LEVEL_KEYS
+from baobab.missions.language import loader
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import SCHEMA_HEADER, load_mission
+from baobab.missions.language.models import TOP_LEVEL_KEYS
 from baobab.sim.errors import WorldError
 from baobab.sim.world import World, bundled_world_names, bundled_world_path, load_world
 

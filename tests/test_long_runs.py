@@ -20,9 +20,9 @@ import numpy as np
 import py_trees
 import pytest
 
-from baobab.missions.loader import load_mission
-from baobab.missions.run_loop import ProgressSnapshot
-from baobab.missions.runner import RunRecord, run_mission
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.runner import RunRecord, run_mission
+from baobab.missions.run.tick_loop import ProgressSnapshot
 from baobab.nav import BasicNavigator
 from baobab.nav.msgs import pose_stamped
 from baobab.sim.builder import movable_slot_name

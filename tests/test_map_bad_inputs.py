@@ -7,10 +7,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from map_files import room_pixels, write_map
 
 from baobab.sim.errors import WorldError
 from baobab.sim.world import load_world
-from tests.map_files import room_pixels, write_map
 
 GOOD = {
     "image": "map.pgm",

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from map_files import maze_pixels, room_pixels, write_map
+from navigation_rig import distance, make_rig
 
 from baobab.nav import msgs
 from baobab.nav.costmap import LETHAL_OBSTACLE, NO_INFORMATION
@@ -25,8 +27,6 @@ from baobab.nav.navigator_robot import NavigatorSetupError
 from baobab.sim.occupancy_map import load_occupancy_map
 from baobab.sim.tasks import TaskStatus
 from baobab.sim.world import Pose2D, load_world
-from tests.map_files import maze_pixels, room_pixels, write_map
-from tests.navigation_rig import distance, make_rig
 
 RES = 0.05
 

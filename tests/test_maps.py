@@ -7,6 +7,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 import pytest
+from map_files import maze_pixels, room_pixels, write_map
 from scipy import ndimage
 
 from baobab.nav.costmap import LETHAL_OBSTACLE, NO_INFORMATION
@@ -19,7 +20,6 @@ from baobab.sim.geometry import nearest_obstacle
 from baobab.sim.map_geometry import solid_rectangles
 from baobab.sim.point_clearance import MAP_WALLS
 from baobab.sim.world import Pose2D, World, load_world
-from tests.map_files import maze_pixels, room_pixels, write_map
 
 FORMATS = ("P2", "P5", "PNG", "BMP")
 

@@ -16,10 +16,10 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from baobab.missions.baseline import MAX_JSON_DEPTH, BaselineError, read_baseline
-from baobab.missions.cli import main
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import load_mission
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import load_mission
+from baobab.missions.testing.baseline import MAX_JSON_DEPTH, BaselineError, read_baseline
 from baobab.sim.errors import MAX_MESSAGE_CHARS, SourceError, clip, one_line
 from baobab.sim.text_positions import TextPositions
 from baobab.sim.yaml11 import scalar_surprise

@@ -14,8 +14,8 @@ import pydot
 import pytest
 import yaml
 
-from baobab.missions.cli import main
-from baobab.missions.registry import default_registry
+from baobab.behaviours.builtin import default_registry
+from baobab.missions.cli.command_line import main
 
 FIXTURES = Path(__file__).parent / "missions"
 MISSIONS = sorted(FIXTURES.glob("*.yaml"))

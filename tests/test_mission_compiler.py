@@ -16,9 +16,9 @@ import pytest
 
 from baobab.behaviours.actions import GoalTaskLeaf
 from baobab.behaviours.ports import Capabilities
-from baobab.missions.compiler import CompiledMission, compile_mission
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import load_mission
+from baobab.missions.language.compiler import CompiledMission, compile_mission
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import load_mission
 from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D
 

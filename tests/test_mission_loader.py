@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from baobab.missions.cli import main
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import load_mission
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import load_mission
 from baobab.sim.errors import SourceError
 
 FIXTURES = Path(__file__).parent / "missions"

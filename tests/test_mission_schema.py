@@ -10,17 +10,17 @@ import jsonschema
 import pytest
 import yaml
 
-from baobab.missions.json_schema import mission_json_schema
-from baobab.missions.loader import load_mission
-from baobab.missions.nodes_common import WaitParams
-from baobab.missions.registry import (
+from baobab.behaviours.builtin import default_registry
+from baobab.behaviours.common_nodes import WaitParams
+from baobab.behaviours.registry import (
     BehaviourType,
     NodeKind,
     Registry,
     RegistryError,
-    default_registry,
 )
-from baobab.missions.schema import TOP_LEVEL_KEYS
+from baobab.missions.language.json_schema import mission_json_schema
+from baobab.missions.language.loader import load_mission
+from baobab.missions.language.models import TOP_LEVEL_KEYS
 
 FIXTURES = Path(__file__).parent / "missions"
 MISSIONS = sorted(FIXTURES.glob("*.yaml"))

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 from navigation_rig import ContactWatch, distance
 
-from baobab.missions.cli import main
+from baobab.missions.cli.command_line import main
 from baobab.nav.navigator import BasicNavigator, TaskResult
 from baobab.sim.world import Pose2D
 
@@ -158,7 +158,7 @@ def test_example_nav_to_pose_preempts_under_baobab_nav2_in_a_subprocess() -> Non
         [
             sys.executable,
             "-c",
-            "import sys; from baobab.missions.cli import main; sys.exit(main())",
+            "import sys; from baobab.missions.cli.command_line import main; sys.exit(main())",
             "nav2",
             str(EXAMPLES / "nav_to_pose.py"),
             "--world",

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 import pytest
-from navigation_rig import distance, make_rig
+from navigation_rig import alcove, distance, make_rig
 
 from baobab.behaviours.ports import NavigationPort
 from baobab.nav import NavigationServer, build_navigation
@@ -21,6 +21,7 @@ from baobab.nav.errors import (
     NavigationError,
     SmoothPathError,
 )
+from baobab.nav.layered_costmap import LayeredCostmap
 from baobab.nav.path import Path
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.tasks import TaskStatus
@@ -233,10 +234,43 @@ def test_costmaps_and_clearing() -> None:
     assert math.isclose((y0 + y1) / 2, here.y, abs_tol=0.05)
     marked = server.global_layers.obstacle_layer.grid.data
     assert (marked == LETHAL_OBSTACLE).any()
+    # What the latest scan alone marks on a fresh obstacle layer: what a clear keeps.
+    scan = rig.robot.lidar.latest
+    assert scan is not None
+    seen = LayeredCostmap.global_costmap(rig.world).obstacle_layer
+    seen.add_scan(scan)
+    assert np.array_equal(marked, seen.grid.data)
+    stale = server.global_costmap().world_to_map(2.5, -2.5) or (0, 0)  # nothing there
+    marked[stale[1], stale[0]] = LETHAL_OBSTACLE
+    local_marks = server.local_layers.obstacle_layer.grid.data
+    local_before = local_marks.copy()
     server.clear_costmaps("global")
-    assert not (marked == LETHAL_OBSTACLE).any()
-    assert (server.local_layers.obstacle_layer.grid.data == LETHAL_OBSTACLE).any()
+    assert marked[stale[1], stale[0]] != LETHAL_OBSTACLE  # forgotten: no beam marks it
+    assert np.array_equal(marked, seen.grid.data)  # what the lidar sees stays
+    assert np.array_equal(local_marks, local_before)  # the local costmap was left alone
+    local_marks[:] = LETHAL_OBSTACLE
     server.clear_costmaps("all")
-    assert not (server.local_layers.obstacle_layer.grid.data == LETHAL_OBSTACLE).any()
+    assert 0 < np.count_nonzero(local_marks == LETHAL_OBSTACLE) < local_marks.size // 10
     with pytest.raises(ValueError, match="local"):
         server.clear_costmaps("both")
+
+
+def test_a_plan_right_after_a_clear_avoids_what_the_lidar_sees() -> None:
+    # Nav2's planner waits after a clear until the costmap has marked the latest scan again
+    # (waitForCostmap): it never plans through an obstacle it sees, here a 0.3 m box sealing
+    # the only way out of an alcove and known to the lidar alone.
+    rig = make_rig(alcove())
+    rig.place_box(0, -0.1, 0.0)
+    rig.sim.step_for(1.05)  # a scan and a global costmap update
+    goal = Pose2D(x=2.0, y=1.0)
+    with pytest.raises(NavigationError) as blocked:
+        rig.server.compute_path(None, goal)
+    assert blocked.value.code == ComputePathToPoseError.NO_VALID_PATH
+    for which in ("global", "all"):
+        rig.server.clear_costmaps(which)
+        with pytest.raises(NavigationError) as caught:
+            rig.server.compute_path(None, goal)
+        assert caught.value.code == ComputePathToPoseError.NO_VALID_PATH
+    rig.place_box(0, 2.5, -1.5)  # taken away: the next scans see through
+    rig.sim.step_for(1.0)
+    assert len(rig.server.compute_path(None, goal)) > 0

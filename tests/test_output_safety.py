@@ -22,12 +22,12 @@ import foxglove
 import pytest
 from filesystems import fill, make_read_only, tmpfs
 
-from baobab.missions import baseline as baseline_module
-from baobab.missions import run_folder as run_folder_module
-from baobab.missions.cli import main
-from baobab.missions.output_checks import MIN_FREE_BYTES
-from baobab.missions.run_command import EXIT_NOT_SAVED
-from baobab.missions.run_folder import PLOT_FILE, RESULT_FILE, TRACE_FILE, write_run_folder
+from baobab.missions.cli.command_line import main
+from baobab.missions.run import run_folder as run_folder_module
+from baobab.missions.run.exit_codes import EXIT_NOT_SAVED
+from baobab.missions.run.output_checks import MIN_FREE_BYTES
+from baobab.missions.run.run_folder import PLOT_FILE, RESULT_FILE, TRACE_FILE, write_run_folder
+from baobab.missions.testing import baseline as baseline_module
 from baobab.sim.output_file import OutputFile
 from baobab.sim.recording_sinks import McapSink
 
@@ -381,7 +381,7 @@ def test_a_video_or_tree_log_on_a_full_disk_raises_at_close_when_nobody_listens(
 ) -> None:
     import numpy as np
 
-    from baobab.missions.btcpp_log import BtLogWriter, BtStatus
+    from baobab.missions.language.btcpp_log import BtLogWriter, BtStatus
     from baobab.sim.errors import BaobabError
     from baobab.sim.rendering import VideoWriter
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 from importlib import resources
 from pathlib import Path
 
-from baobab.missions.loader import load_mission
-from baobab.missions.runner import run_mission
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.runner import run_mission
 
 PANDA_PICK = Path(str(resources.files("baobab.missions"))) / "panda_pick.yaml"
 

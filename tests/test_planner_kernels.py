@@ -103,17 +103,7 @@ def test_smoothing_rounds_match_the_first_version_bit_for_bit() -> None:
         expected = reference_smooth_round(
             points, costmap.data, costmap.origin, costmap.resolution, smoother
         )
-        got = _smooth_round(
-            points,
-            costmap.data,
-            costmap.origin_x,
-            costmap.origin_y,
-            costmap.resolution,
-            smoother.w_data,
-            smoother.w_smooth,
-            smoother.tolerance,
-            smoother.max_its,
-        )
+        got = _smooth_round(points, costmap.data, costmap.pack(), smoother.pack())
         assert got[0] == expected[0]
         assert np.array_equal(got[1], expected[1])
         statuses.add(expected[0])

@@ -14,9 +14,9 @@ import py_trees
 import pytest
 
 from baobab.behaviours.progress import ClearCostmapsWhenStuck, forward_speed
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import load_mission
-from baobab.missions.runner import run_mission
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.runner import run_mission
 from baobab.sim.world import Pose2D
 
 Status = py_trees.common.Status
@@ -197,8 +197,10 @@ def test_the_rule_needs_a_robot_that_navigates(tmp_path: Path) -> None:
 
 
 # Four boxes wall the robot in half a second after the start; at 10 s the northern one is
-# carried away to the far corner and the way to goal_open is free again. Should navigation
-# give up inside the walls, the retry sends the goal again, as cafe_delivery does.
+# carried away to the far corner and the way to goal_open is free again. Only the lidar knows
+# the boxes: every clearing keeps what it sees, so the robot stays clear of them while walled
+# in (no_contact). Should navigation give up inside the walls, the retry sends the goal
+# again, as cafe_delivery does.
 WALLED_IN = """
 mission: walled_in
 world: walls
@@ -219,6 +221,7 @@ timeout: 90
 expect:
   result: SUCCEEDED
   final_pose_near: {location: goal_open}
+  no_contact: true
 """
 
 

@@ -15,7 +15,7 @@ import xml.etree.ElementTree as ET
 from importlib import resources
 from pathlib import Path
 
-# matplotlib, numpy's extension modules and baobab.missions.scenario are imported before any
+# matplotlib, numpy's extension modules and baobab.missions.testing.scenario are imported before any
 # inline pytest run: pytester drops the modules an inline run imports when it ends, numpy's
 # extension modules cannot be loaded twice in one process (a later test in this worker that
 # imports numpy.fft would fail), and importing matplotlib again for every plot would be slow.
@@ -30,8 +30,8 @@ import numpy.random  # noqa: F401
 import pytest
 import xmlschema
 
-import baobab.missions.scenario  # noqa: F401
-from baobab.missions.pytest_plugin import is_scenario_file
+import baobab.missions.testing.scenario  # noqa: F401
+from baobab.missions.testing.pytest_plugin import is_scenario_file
 
 pytest_plugins = ["pytester"]
 

@@ -20,8 +20,8 @@ from mcap_protobuf.decoder import DecoderFactory
 from scipy.spatial.transform import Rotation
 from websockets.sync.client import connect
 
-from baobab.missions.btcpp_log import BtLogWriter, BtStatus
-from baobab.missions.recording_topics import TASK_FEEDBACK_SCHEMA, TREE_STATUS_SCHEMA, Topics
+from baobab.missions.language.btcpp_log import BtLogWriter, BtStatus
+from baobab.missions.run.recording_topics import TASK_FEEDBACK_SCHEMA, TREE_STATUS_SCHEMA, Topics
 from baobab.nav.layered_costmap import LayeredCostmap
 from baobab.robots.panda.model import ARM_JOINTS
 from baobab.robots.panda.scene import build_panda_sim

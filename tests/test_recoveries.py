@@ -11,8 +11,9 @@ from __future__ import annotations
 import math
 
 import pytest
-from navigation_rig import distance, make_rig, sealed_room
+from navigation_rig import alcove, distance, make_rig, sealed_room
 
+from baobab.missions.run.event_targets import ObstacleSlots
 from baobab.nav.errors import (
     AssistedTeleopError,
     BackUpError,
@@ -22,7 +23,7 @@ from baobab.nav.errors import (
 )
 from baobab.nav.navigate import CONTROLLER_RECOVERABLE_CODES, PLANNER_RECOVERABLE_CODES
 from baobab.sim.tasks import TaskStatus
-from baobab.sim.world import Box, Floor, Pose2D, World
+from baobab.sim.world import Pose2D
 
 TURN_TOLERANCE = 0.1
 """rad: the 10 Hz cycle sees the target late by up to one cycle, then the base decelerates."""
@@ -162,23 +163,32 @@ def test_a_goal_sealed_off_by_walls_fails_with_no_valid_path_after_the_recoverie
     assert rig.contacts.touched == set()
 
 
-def _alcove() -> World:
-    """A 0.6 m wide dead end open to the east, the robot inside it."""
-    walls = [
-        Box(name="alcove_north", center=(0.0, 0.35), size=(2.4, 0.1)),
-        Box(name="alcove_south", center=(0.0, -0.35), size=(2.4, 0.1)),
-        Box(name="alcove_end", center=(-1.15, 0.0), size=(0.1, 0.6)),
-    ]
-    return World(
-        name="alcove",
-        floor=Floor(size=(6.0, 4.0)),
-        boxes=walls,
-        spawns={"default": Pose2D(x=-0.6, y=0.0)},
-    )
+def test_walls_only_the_lidar_sees_fail_the_goal_with_no_valid_path_untouched() -> None:
+    # Four spawned boxes wall the robot in: only the obstacle layers know them. Every clearing
+    # of the recoveries keeps what the lidar sees, so no plan leads through them and the robot
+    # never drives at them; the navigation ends as in a room sealed by static walls.
+    rig = make_rig("walls")
+    slots = ObstacleSlots(rig.sim)
+    for name, x, y, size in [
+        ("north", 0.0, 0.55, (1.3, 0.1, 0.5)),
+        ("south", 0.0, -0.55, (1.3, 0.1, 0.5)),
+        ("east", 0.55, 0.0, (0.1, 1.3, 0.5)),
+        ("west", -0.55, 0.0, (0.1, 1.3, 0.5)),
+    ]:
+        slots.spawn(name, x, y, 0.0, size)
+    rig.sim.step_for(0.3)  # a scan; the global costmap takes it at its 1 Hz update
+    handle = rig.server.navigate_to_pose(rig.world.locations["goal_open"])
+    rig.run(handle, 60.0)
+    outcome = handle.outcome
+    assert outcome is not None and outcome.status is TaskStatus.FAILED
+    assert outcome.error_code == ComputePathToPoseError.NO_VALID_PATH
+    assert handle.feedback["number_of_recoveries"] > 6
+    assert rig.contacts.touched == set()
+    assert rig.robot.base.min_clearance() > 0.05
 
 
 def test_a_box_that_traps_the_robot_runs_the_recoveries_and_fails_cleanly() -> None:
-    rig = make_rig(_alcove())
+    rig = make_rig(alcove())
     handle = rig.server.navigate_to_pose(Pose2D(x=2.0, y=1.0))
     rig.sim.step_for(0.5)
     rig.place_box(0, 0.7, 0.0)  # shuts the only way out, 1.3 m ahead of the robot

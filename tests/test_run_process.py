@@ -13,8 +13,8 @@ from typing import Any
 
 import pytest
 
-from baobab.missions.errors import MissionError
-from baobab.missions.run_process import ChildProcessDiedError, run_in_child
+from baobab.missions.language.errors import MissionError
+from baobab.missions.run.child_process import ChildProcessDiedError, run_in_child
 from baobab.sim.errors import BaobabError
 
 REPO = Path(__file__).resolve().parents[1]
@@ -111,7 +111,7 @@ def test_the_plotting_process_never_loads_the_simulation_stack(tmp_path: Path) -
     out = tmp_path / "run"
     script = (
         "import json, sys\n"
-        "from baobab.missions.cli import main\n"
+        "from baobab.missions.cli.command_line import main\n"
         f"code = main(['run', 'walls_go_to_goal', '--json', '--out', {str(out)!r}])\n"
         "print(json.dumps({'code': code, 'modules': sorted(sys.modules)}))\n"
     )
@@ -126,4 +126,4 @@ def test_the_plotting_process_never_loads_the_simulation_stack(tmp_path: Path) -
     assert "matplotlib" in parent["modules"]
     loaded = [name for name in parent["modules"] if name.split(".")[0] in ("numba", "llvmlite")]
     assert loaded == []
-    assert "baobab.missions.runner" not in parent["modules"]
+    assert "baobab.missions.run.runner" not in parent["modules"]

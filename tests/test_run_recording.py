@@ -29,15 +29,17 @@ from mcap.reader import make_reader
 from mcap.records import Schema as McapSchema
 from mcap_protobuf.decoder import DecoderFactory
 
+from baobab.behaviours.builtin import default_registry
 from baobab.behaviours.ports import Capabilities
-from baobab.missions.cli import main
-from baobab.missions.compiler import compile_mission
-from baobab.missions.export import BUILTIN_MODELS, preorder, to_btcpp, to_btcpp_log
-from baobab.missions.loader import load_mission
-from baobab.missions.plotting import ArmPlot, save_plot
-from baobab.missions.registry import NodeKind, default_registry
-from baobab.missions.run_command import resolve_mission
-from baobab.missions.runner import RecordingOptions, run_mission
+from baobab.behaviours.registry import NodeKind
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.bundled_missions import resolve_mission
+from baobab.missions.language.compiler import compile_mission
+from baobab.missions.language.loader import load_mission
+from baobab.missions.language.tree_export import BUILTIN_MODELS, preorder, to_btcpp, to_btcpp_log
+from baobab.missions.run.plot_data import ArmPlot
+from baobab.missions.run.plotting import save_plot
+from baobab.missions.run.runner import RecordingOptions, run_mission
 
 BAOBAB = str(Path(sys.executable).parent / "baobab")
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
@@ -349,7 +351,7 @@ def test_video_without_pyav_says_how_to_install_it(
 def test_a_run_without_recording_imports_neither_foxglove_nor_av(tmp_path: Path) -> None:
     path = mission_file(tmp_path, PAUSE, "pause.yaml")
     script = (
-        "import os, sys\nfrom baobab.missions.cli import main\n"
+        "import os, sys\nfrom baobab.missions.cli.command_line import main\n"
         f"code = main(['run', {str(path)!r}, '--out', {str(tmp_path / 'run')!r}])\n"
         "loaded = sorted({m.split('.')[0] for m in sys.modules} & {'foxglove', 'av', 'mcap'})\n"
         "print('LOADED', code, loaded, os.environ.get('MUJOCO_GL'))\n"

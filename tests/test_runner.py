@@ -15,12 +15,12 @@ from typing import Any
 
 import pytest
 
-from baobab.missions.cli import main
-from baobab.missions.events import TimedEvents
-from baobab.missions.loader import load_mission
-from baobab.missions.robots_wiring import MobileRig
-from baobab.missions.run_folder import PLOT_FILE, RESULT_FILE, TRACE_FILE
-from baobab.missions.runner import run_mission
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.events import TimedEvents
+from baobab.missions.run.rig import MobileRig
+from baobab.missions.run.run_folder import PLOT_FILE, RESULT_FILE, TRACE_FILE
+from baobab.missions.run.runner import run_mission
 
 BAOBAB = str(Path(sys.executable).parent / "baobab")
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
@@ -411,7 +411,7 @@ def test_the_panda_picks_and_places_through_the_arm_port() -> None:
 def test_a_mobile_run_without_navigation_imports_neither_panda_nor_nav(tmp_path: Path) -> None:
     path = _mission(tmp_path, "mission: pause\nworld: walls\nrobot: turtlebot3\ntree:\n  wait: 1\n")
     script = (
-        "import sys\nfrom baobab.missions.cli import main\n"
+        "import sys\nfrom baobab.missions.cli.command_line import main\n"
         f"code = main(['run', {str(path)!r}, '--out', {str(tmp_path / 'run')!r}])\n"
         "heavy = [m for m in sys.modules if m.split('.')[0] == 'pinocchio'"
         " or m.startswith(('baobab.robots.panda', 'baobab.nav'))]\n"
@@ -423,7 +423,7 @@ def test_a_mobile_run_without_navigation_imports_neither_panda_nor_nav(tmp_path:
 
 
 def test_a_cold_kernel_cache_is_announced(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from baobab.missions.run_command import kernels_cached
+    from baobab.missions.cli.run_command import kernels_cached
 
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
     assert not kernels_cached("turtlebot3")

@@ -24,9 +24,9 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from baobab.missions import plotting
-from baobab.missions.cli import main
-from baobab.missions.run_folder import PLOT_FILE, RESULT_FILE, TRACE_FILE
+from baobab.missions.cli.command_line import main
+from baobab.missions.run import plotting
+from baobab.missions.run.run_folder import PLOT_FILE, RESULT_FILE, TRACE_FILE
 
 BAOBAB = str(Path(sys.executable).parent / "baobab")
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"

@@ -13,13 +13,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from baobab.missions import campaign_vary
-from baobab.missions.campaign_spec import MAX_RUNS
-from baobab.missions.cli import main
-from baobab.missions.errors import MissionError
-from baobab.missions.loader import load_mission
-from baobab.missions.schema import MAX_EVENTS
-from baobab.missions.tree_parser import MAX_TREE_NODES
+from baobab.missions.campaigns import vary as campaign_vary
+from baobab.missions.campaigns.spec import MAX_RUNS
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import load_mission
+from baobab.missions.language.models import MAX_EVENTS
+from baobab.missions.language.tree_parser import MAX_TREE_NODES
 from baobab.nav import BasicNavigator
 from baobab.nav.layers import CostmapSizeError, StaticLayer
 from baobab.sim.errors import WorldError

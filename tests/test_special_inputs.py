@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from baobab.missions.cli import main
+from baobab.missions.cli.command_line import main
 from baobab.sim.errors import SourceError
 from baobab.sim.input_files import MAX_INPUT_BYTES, read_input_file
 

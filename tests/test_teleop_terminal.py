@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import pytest
 
-from baobab.missions.cli import main
-from baobab.missions.teleop_command import TICK, TeleopSession, TeleopStatus, drive, help_text
+from baobab.missions.cli.command_line import main
+from baobab.missions.cli.teleop_command import TICK, TeleopSession, TeleopStatus, drive, help_text
 from baobab.robots.turtlebot3.teleop import LAYOUTS
 from baobab.robots.turtlebot3.teleop_terminal import RawTerminal, TerminalKeys
 from baobab.sim.tasks import TaskStatus
@@ -135,7 +135,7 @@ class Screen:
         self.master, self.slave = os.openpty()
         fcntl.ioctl(self.slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, COLUMNS, 0, 0))
         self.settings = termios.tcgetattr(self.slave)
-        command = "from baobab.missions.cli import main; raise SystemExit(main())"
+        command = "from baobab.missions.cli.command_line import main; raise SystemExit(main())"
         env = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES")}
         self.process = subprocess.Popen(
             [sys.executable, "-c", command, "teleop", "--world", "walls", *args],

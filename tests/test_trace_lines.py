@@ -10,7 +10,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from baobab.missions.trace import Trace, jsonable
+from baobab.missions.run.trace import Trace, jsonable
 
 _values = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),

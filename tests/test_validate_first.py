@@ -16,11 +16,11 @@ from pathlib import Path
 
 import pytest
 
-from baobab.missions.cli import main
-from baobab.missions.error_codes import MissionErrorCode, error_codes
-from baobab.missions.loader import load_mission
-from baobab.missions.metric_names import metric_names, structured_metric_names
-from baobab.missions.robots_wiring import build_rig
+from baobab.missions.cli.command_line import main
+from baobab.missions.language.error_codes import MissionErrorCode, error_codes
+from baobab.missions.language.loader import load_mission
+from baobab.missions.language.metric_names import metric_names, structured_metric_names
+from baobab.missions.run.rig import build_rig
 from baobab.nav import errors as nav_errors
 from baobab.robots.catalog import ROBOTS
 

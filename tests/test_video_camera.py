@@ -20,9 +20,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from baobab.missions.loader import load_mission
-from baobab.missions.recording_hook import DEFAULT_FPS
-from baobab.missions.runner import RecordingOptions, RunRecord, run_mission
+from baobab.missions.language.loader import load_mission
+from baobab.missions.run.recording_hook import DEFAULT_FPS
+from baobab.missions.run.runner import RecordingOptions, RunRecord, run_mission
 from baobab.robots.panda.scene import PREFIX, TABLE_GEOM, build_panda_sim, video_view
 from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
 from baobab.sim import rendering

@@ -18,11 +18,12 @@ import enum
 import numba
 import numpy as np
 
-from baobab.robots.panda.chain_dynamics import CHAIN_JOINTS, Record
+from baobab.robots.panda.chain_dynamics import CHAIN_JOINTS
 from baobab.robots.panda.gripper import advance_servo
 from baobab.robots.panda.impedance_law import POSE_SIZE, control_step, store_pose
 from baobab.robots.panda.model import ARM_DOF
 from baobab.robots.panda.quaternion import matrix_to_quaternion
+from baobab.sim.records import Record
 
 
 class MotionEnd(enum.IntEnum):

@@ -1,15 +1,18 @@
 """The Panda's forward kinematics, TCP Jacobian and bias torques as one compiled kernel.
 
 The controller's model of the robot is Pinocchio's, parsed from ``panda.xml``
-(:class:`~baobab.robots.panda.model.PandaModel`). Asking Pinocchio from Python for the joint
-Jacobians, the TCP placement and the nonlinear effects costs three Python-to-C++ crossings
-per control step (~5 us, most of it in the crossings). :func:`chain_parameters` instead copies
-the model's joint placements, axes and inertias once into a buffer, and
-:func:`evaluate_chain`, called inside the control kernel, runs the same algorithms on it:
+(:class:`~baobab.robots.panda.model.PandaModel`), and Pinocchio stays the reference: the tests
+check all three results against it (``tests/test_panda_impedance_kernel.py``).
+
+Why compiled: the 1 kHz control step runs inside MuJoCo's own step
+(:mod:`baobab.robots.panda.native_loop`), in compiled code that holds no GIL and cannot call
+Pinocchio's Python bindings; and from Python, asking Pinocchio for the joint Jacobians, the TCP
+placement and the nonlinear effects cost three Python-to-C++ crossings per step (~5 us, most
+of it in the crossings). :func:`chain_parameters` copies the model's joint placements, axes
+and inertias once into a record, and :func:`evaluate_chain` runs the same algorithms on it:
 forward kinematics, the TCP Jacobian in the base-aligned frame at the TCP (Pinocchio's
 ``LOCAL_WORLD_ALIGNED``) and the recursive Newton-Euler bias ``C(q, v) v + g(q)`` (Pinocchio's
-``nonLinearEffects``), in a third of the time of the three calls. The tests check all three
-against Pinocchio.
+``nonLinearEffects``), in a third of the time of the three calls.
 
 The chain's joints are Pinocchio's joints 1..n in order (parents before children), one degree
 of freedom each, revolute or prismatic about a fixed axis. Spatial vectors are (linear,
@@ -19,7 +22,6 @@ angular) pairs expressed in a joint's frame, as in Pinocchio.
 from __future__ import annotations
 
 import math
-from typing import Any, TypeAlias
 
 import numba
 import numpy as np
@@ -27,6 +29,7 @@ import pinocchio as pin
 
 from baobab.robots.panda.errors import PandaModelError
 from baobab.robots.panda.model import ARM_DOF, FINGER_JOINTS
+from baobab.sim.records import Record
 
 CHAIN_JOINTS = ARM_DOF + len(FINGER_JOINTS)
 """Degrees of freedom of the chain: the seven arm joints, then the two fingers."""
@@ -65,9 +68,6 @@ CHAIN = np.dtype(
 """The chain's model and the kernel's results, as one record. All fields are 8 bytes wide, so
 a one-element array of it can travel to a kernel as a flat float64 buffer (``.view(float)``),
 which numba dispatches faster than a structured array."""
-
-Record: TypeAlias = Any
-"""A record of a structured array as the kernels see it (fields as attributes)."""
 
 _REVOLUTE = {"JointModelRX": 0, "JointModelRY": 1, "JointModelRZ": 2}
 _PRISMATIC = {"JointModelPX": 0, "JointModelPY": 1, "JointModelPZ": 2}
@@ -119,19 +119,16 @@ def _cross(
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
+Motion = tuple[float, float, float, float, float, float]
+"""A spatial vector: linear (m0, m1, m2), then angular (n0, n1, n2) part."""
+
+
 @numba.njit(cache=True, nogil=True, inline="always")
 def _inertia_times(
-    mass: float,
-    com: np.ndarray,
-    inertia: np.ndarray,
-    m0: float,
-    m1: float,
-    m2: float,
-    n0: float,
-    n1: float,
-    n2: float,
-) -> tuple[float, float, float, float, float, float]:  # pragma: no cover - compiled
+    mass: float, com: np.ndarray, inertia: np.ndarray, motion: Motion
+) -> Motion:  # pragma: no cover - compiled
     """Spatial inertia times motion (m; n): (mass (m - com x n), I_c n + com x linear)."""
+    m0, m1, m2, n0, n1, n2 = motion
     k0, k1, k2 = _cross(com[0], com[1], com[2], n0, n1, n2)
     l0, l1, l2 = mass * (m0 - k0), mass * (m1 - k1), mass * (m2 - k2)
     h0, h1, h2 = _cross(com[0], com[1], com[2], l0, l1, l2)
@@ -256,18 +253,10 @@ def evaluate_chain(q: np.ndarray, v: np.ndarray, record: Record) -> None:  # pra
 
         # f = I a + v x* (I v), v x* (l, h) = (w x l, w x h + v x l).
         mass, com, inertia = record.mass[i], record.com[i], record.inertia[i]
-        l0, l1, l2, h0, h1, h2 = _inertia_times(
-            mass,
-            com,
-            inertia,
-            acceleration[i, 0],
-            acceleration[i, 1],
-            acceleration[i, 2],
-            acceleration[i, 3],
-            acceleration[i, 4],
-            acceleration[i, 5],
-        )
-        m0, m1, m2, k0, k1, k2 = _inertia_times(mass, com, inertia, v0, v1, v2, w0, w1, w2)
+        a = acceleration[i]
+        motion = (a[0], a[1], a[2], a[3], a[4], a[5])
+        l0, l1, l2, h0, h1, h2 = _inertia_times(mass, com, inertia, motion)
+        m0, m1, m2, k0, k1, k2 = _inertia_times(mass, com, inertia, (v0, v1, v2, w0, w1, w2))
         x0, x1, x2 = _cross(w0, w1, w2, m0, m1, m2)
         y0, y1, y2 = _cross(w0, w1, w2, k0, k1, k2)
         z0, z1, z2 = _cross(v0, v1, v2, m0, m1, m2)

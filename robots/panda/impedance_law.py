@@ -4,8 +4,13 @@
 :class:`~baobab.robots.panda.impedance.CartesianImpedanceController` in one call: the chain's
 kinematics and bias torques (:func:`~baobab.robots.panda.chain_dynamics.evaluate_chain`),
 then the seed's error, the task and nullspace torques, the saturation and the reference
-filter (:func:`impedance_law`). In numpy the law alone took ~35 Python-to-C calls and 70-80 us
-a step, and the three Pinocchio calls before it ~5 us; here the whole step is one call.
+filter (:func:`impedance_law`).
+
+Why compiled: the step runs 1000 times a simulated second, inside MuJoCo's own step
+(:mod:`baobab.robots.panda.native_loop`). In numpy the law alone took ~35 Python-to-C calls
+and 70-80 us a step, and the three Pinocchio calls before it ~5 us; here the whole step is
+one call. The tests check it against that numpy law on Pinocchio
+(``tests/test_panda_impedance_kernel.py``).
 
 Quaternions are x, y, z, w as at the public boundaries; the quaternion algebra comes from
 :mod:`baobab.robots.panda.quaternion`.
@@ -18,13 +23,14 @@ import math
 import numba
 import numpy as np
 
-from baobab.robots.panda.chain_dynamics import CHAIN, Record, evaluate_chain
+from baobab.robots.panda.chain_dynamics import CHAIN, evaluate_chain
 from baobab.robots.panda.model import ARM_DOF
 from baobab.robots.panda.quaternion import (
     multiply_by_conjugate,
     rotation_to_quaternion,
     slerp_towards,
 )
+from baobab.sim.records import Record
 
 POSE_SIZE = 7
 """A pose as one row: x, y, z (m), then the quaternion qx, qy, qz, qw."""
@@ -146,28 +152,13 @@ def control_step(q: np.ndarray, v: np.ndarray, controller: Record) -> None:  # p
 
     Evaluates the chain at ``q``, ``v``, then runs :func:`impedance_law`.
     """
-    chain = controller.chain
-    evaluate_chain(q, v, chain)
-    impedance_law(
-        q,
-        v,
-        chain.jacobian,
-        chain.bias,
-        chain.tcp_position,
-        chain.tcp_rotation,
-        controller.state,
-    )
+    evaluate_chain(q, v, controller.chain)
+    impedance_law(q, v, controller.chain, controller.state)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def impedance_law(
-    q: np.ndarray,
-    v: np.ndarray,
-    jacobian: np.ndarray,
-    bias: np.ndarray,
-    tcp_translation: np.ndarray,
-    tcp_rotation: np.ndarray,
-    record: Record,
+    q: np.ndarray, v: np.ndarray, chain: Record, record: Record
 ) -> None:  # pragma: no cover - compiled
     """The seed's Cartesian impedance law for one step, in the base frame.
 
@@ -176,15 +167,15 @@ def impedance_law(
     Args:
         q: joint positions (nv,), rad and m.
         v: joint velocities (nv,), rad/s and m/s.
-        jacobian: TCP Jacobian (6, ARM_DOF), linear rows first, in the base-aligned frame at
-            the TCP.
-        bias: C(q, v) v + g(q) (nv,), N m.
-        tcp_translation: TCP position (3,), m.
-        tcp_rotation: TCP rotation matrix (3, 3).
+        chain: a :data:`~baobab.robots.panda.chain_dynamics.CHAIN` record, evaluated at
+            ``q``, ``v``: reads the TCP Jacobian (6, ARM_DOF; linear rows first, in the
+            base-aligned frame at the TCP), the bias C(q, v) v + g(q) (N m) and the TCP pose.
         record: a :data:`CONTROLLER_STATE` record. Reads the gains, limits and set-points and
             the previous torque; writes the torque, error, measured pose and tracking error,
             and advances the reference by one filter step.
     """
+    jacobian, bias = chain.jacobian, chain.bias
+    tcp_translation, tcp_rotation = chain.tcp_position, chain.tcp_rotation
     n = ARM_DOF
     torque, error = record.torque, record.error
     measured_position, measured_rotation = record.position, record.rotation

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from baobab.robots.turtlebot3.base_kernel import LOOP_WORDS, WORD, base_loops, catch_up
+from baobab.robots.turtlebot3.base_kernel import LOOP_WORDS, WORD, base_loops
 from baobab.robots.turtlebot3.clearance_bounds import ClearanceBounds
 from baobab.robots.turtlebot3.model import (
     BURGER,
@@ -27,7 +27,7 @@ from baobab.robots.turtlebot3.model import (
 )
 from baobab.sim.builder import FLOOR_GROUP
 from baobab.sim.errors import SimulationError
-from baobab.sim.simulation import PeriodicHandle, Simulation
+from baobab.sim.simulation import Simulation
 from baobab.sim.world import Pose2D
 
 BASE_CONTROL_PERIOD = 0.01
@@ -99,7 +99,6 @@ class DiffDriveBase:
         self._clearance_bounds = ClearanceBounds(model, data, self._footprint, obstacles)
         self._loop = self._start_loop(sim, model)
         self._reset_odometry()
-        self.handle: PeriodicHandle = sim.add_native(self._catch_up, name=f"{prefix}base")
 
     def _start_loop(self, sim: Simulation, model: mujoco.MjModel) -> np.void:
         """Fill this robot's compiled loop record (:mod:`.base_kernel`) and attach it."""
@@ -132,9 +131,6 @@ class DiffDriveBase:
         loop["max_wheel_speed"] = facts.max_wheel_speed
         loop["encoder_tick"] = 2 * math.pi / facts.encoder_ticks_per_rev
         return loop
-
-    def _catch_up(self, step: int) -> None:
-        catch_up(self._words, self._loop_index, step)
 
     # -- cmd_vel ------------------------------------------------------------------------------
 
@@ -316,8 +312,7 @@ class DiffDriveBase:
         first = addresses[0] if addresses else 0
         if addresses != list(range(first, first + len(addresses))):
             raise SimulationError("the robot's contact sensors are not consecutive")
-        contacts = np.zeros((2, len(obstacles)))
-        contacts[0] = sim.data.sensordata[first : first + len(obstacles)]
+        touched = np.zeros(len(obstacles))
         pose_steps = sim.steps_for(pose_period, what="pose sampling period")
         contact_steps = sim.steps_for(contact_period, what="contact sampling period")
         if pose_steps <= 0 or contact_steps <= 0:
@@ -325,13 +320,13 @@ class DiffDriveBase:
         capacity = 2 * (sim.steps_for(drain_period, what="drain period") // pose_steps + 2)
         poses = np.zeros((capacity, 3))
         loop["contact_sensor"], loop["contact_sensors"] = first, len(obstacles)
-        loop["contact_address"] = contacts.ctypes.data
+        loop["contact_address"] = touched.ctypes.data
         loop["contact_samples"] = 0
         loop["pose_capacity"], loop["pose_address"] = capacity, poses.ctypes.data
         loop["pose_count"] = loop["pose_overflow"] = 0
         loop["pose_next_step"] = loop["contact_next_step"] = sim.step_count
         loop["pose_period_steps"], loop["contact_period_steps"] = pose_steps, contact_steps
-        self._probe = BaseProbe(loop, obstacles, contacts, poses)
+        self._probe = BaseProbe(loop, obstacles, touched, poses)
         return self._probe
 
 
@@ -339,11 +334,11 @@ class BaseProbe:
     """What a base's compiled loop samples for the metrics (:meth:`DiffDriveBase.start_probe`)."""
 
     def __init__(
-        self, loop: np.void, obstacles: list[str], contacts: np.ndarray, poses: np.ndarray
+        self, loop: np.void, obstacles: list[str], touched: np.ndarray, poses: np.ndarray
     ) -> None:
         self._loop = loop
         self._obstacles = obstacles
-        self._contacts = contacts  # [previous sensor values, touched flags] per obstacle
+        self._touched = touched  # 1 for each obstacle touched so far
         self._poses = poses
 
     @property
@@ -353,7 +348,7 @@ class BaseProbe:
 
     def touched(self) -> list[str]:
         """Names of the obstacle geoms the robot touched so far, in model order."""
-        return [name for name, hit in zip(self._obstacles, self._contacts[1], strict=True) if hit]
+        return [name for name, hit in zip(self._obstacles, self._touched, strict=True) if hit]
 
     def drain(self) -> list[tuple[float, float, float]]:
         """The position samples taken since the last drain: (t s, x m, y m), oldest first.

@@ -8,17 +8,15 @@ the two wheel velocity targets and integrates wheel odometry from the encoder an
 optional probe (the mission metrics) samples, at its own periods, whether the robot touches
 an obstacle (from one MuJoCo contact sensor per obstacle geom) and the ground-truth position.
 
-Timing is the Python scheduler's exactly: work due at physics step k happens either inside
-the step taken from k, or earlier, when Python wakes at k and calls :func:`catch_up` in the
-base's place among the periodic callbacks (so callbacks registered after the base see this
-tick's odometry, and their commands take effect at the next tick, as with a Python callback).
-The kernel acts only while the simulation's gate is open (during ``Simulation.step_to``), so
-a ``mj_forward`` after editing the state by hand runs nothing.
+Compiled so that the 100 Hz tick wakes no Python: the simulation steps the physics in one
+``mj_step`` batch up to the next Python callback, and a Python tick would cut every batch
+to 10 ms.
 
-Contacts: a position-stage sensor is already recomputed for the new state when the kernel
-runs inside a step, while a Python callback at step k reads the contacts found for the state
-before. The kernel keeps the last values it saw (``previous`` in the probe array) and samples
-those, which is what a Python callback would have read.
+Timing is the firmware's: the work due at physics step k runs inside the step taken from k,
+on the state at k, after the Python callbacks due at k. So a ``cmd_vel`` given at k is ramped
+toward from the tick at k on, and a callback at k reads the odometry of the tick before. The
+kernel acts only while the simulation's gate is open (during ``Simulation.step_to``), so a
+``mj_forward`` after editing the state by hand runs nothing.
 """
 
 from __future__ import annotations
@@ -26,16 +24,16 @@ from __future__ import annotations
 import functools
 import math
 import weakref
-from typing import Any, TypeAlias
+from typing import TypeAlias
 
 import numba
 import numpy as np
 
 from baobab.sim import native_control
 from baobab.sim.errors import SimulationError
-from baobab.sim.float_semantics import py_max, py_min
 from baobab.sim.mujoco_native import mj_get_state, pointer, remainder
 from baobab.sim.native_control import STATE_TIME
+from baobab.sim.records import Record
 from baobab.sim.simulation import Simulation
 
 BASE_LOOP = np.dtype(
@@ -84,7 +82,7 @@ BASE_LOOP = np.dtype(
         ("contact_samples", np.int64),  # samples with a robot-obstacle contact
         ("contact_sensor", np.int64),  # sensordata address of the first obstacle's sensor
         ("contact_sensors", np.int64),  # one per obstacle geom
-        ("contact_address", np.int64),  # float64[2, contact_sensors]: previous, touched
+        ("contact_address", np.int64),  # float64[contact_sensors]: 1 once touched
         ("pose_period_steps", np.int64),
         ("pose_next_step", np.int64),
         ("pose_count", np.int64),  # samples in the buffer, drained by Python
@@ -100,23 +98,22 @@ LOOP_WORDS = BASE_LOOP.itemsize // 8
 WORD = {name: field[1] // 8 for name, field in (BASE_LOOP.fields or {}).items()}
 """Each field's index in a record viewed as 8-byte words (Python reads and writes them so)."""
 
-Loop: TypeAlias = Any
+Loop: TypeAlias = Record
 """One :data:`BASE_LOOP` record in compiled code (numba's record type; fields by name)."""
 
 
 @numba.njit(cache=True, nogil=True)
 def _control_tick(loop: Loop, qpos: np.ndarray, ctrl: np.ndarray, time: float) -> None:
-    """Ramp toward cmd_vel, command the wheels, integrate odometry (the Python base's tick)."""
-    # min/max as CPython's builtins choose, so ties give the same float (and zero sign).
+    """Ramp toward cmd_vel, command the wheels, integrate odometry."""
     linear, angular = loop.commanded_linear, loop.commanded_angular
     step = loop.linear_step
-    linear = py_min(py_max(loop.target_linear, linear - step), linear + step)
+    linear = min(max(loop.target_linear, linear - step), linear + step)
     step = loop.angular_step
-    angular = py_min(py_max(loop.target_angular, angular - step), angular + step)
+    angular = min(max(loop.target_angular, angular - step), angular + step)
     loop.commanded_linear, loop.commanded_angular = linear, angular
     half = loop.half_separation
     left, right = linear - angular * half, linear + angular * half
-    excess = py_max(abs(left), abs(right)) / loop.max_wheel_speed
+    excess = max(abs(left), abs(right)) / loop.max_wheel_speed
     if excess > 1.0:
         left, right = left / excess, right / excess
     ctrl[loop.left_actuator] = left / loop.wheel_radius
@@ -144,14 +141,17 @@ def _control_tick(loop: Loop, qpos: np.ndarray, ctrl: np.ndarray, time: float) -
 
 @numba.njit(cache=True, nogil=True)
 def _sample_contacts(loop: Loop) -> None:
+    """Count a sample if any obstacle's contact sensor reads a contact; flag those touched."""
     count = loop.contact_sensors
-    contacts = numba.carray(pointer(loop.contact_address), (2, count), np.float64)
-    touched = False
+    sensordata = numba.carray(pointer(loop.sensordata_address), (loop.nsensordata,), np.float64)
+    touched = numba.carray(pointer(loop.contact_address), (count,), np.float64)
+    first = loop.contact_sensor
+    any_touched = False
     for index in range(count):
-        if contacts[0, index] > 0.0:
-            contacts[1, index] = 1.0
-            touched = True
-    if touched:
+        if sensordata[first + index] > 0.0:
+            touched[index] = 1.0
+            any_touched = True
+    if any_touched:
         loop.contact_samples += 1
 
 
@@ -178,7 +178,7 @@ def _next_after(next_step: int, period: int, step: int) -> int:
 
 @numba.njit(cache=True, nogil=True)
 def _run_due(loop: Loop, step: int) -> None:
-    """Do the work due at physics ``step`` that is not done yet."""
+    """Do the work due at physics ``step``."""
     qpos = numba.carray(pointer(loop.qpos_address), (loop.nq,), np.float64)
     time = step * loop.physics_dt
     if loop.period_steps > 0 and loop.next_step <= step:
@@ -195,43 +195,19 @@ def _run_due(loop: Loop, step: int) -> None:
         loop.pose_next_step = _next_after(loop.pose_next_step, loop.pose_period_steps, step)
 
 
-@numba.njit(cache=True, nogil=True)
-def _remember_contacts(loop: Loop) -> None:
-    """Keep the contact sensors' current values as the ones the next sample reads."""
-    count = loop.contact_sensors
-    if loop.contact_period_steps <= 0 or count == 0:
-        return
-    sensordata = numba.carray(pointer(loop.sensordata_address), (loop.nsensordata,), np.float64)
-    contacts = numba.carray(pointer(loop.contact_address), (2, count), np.float64)
-    first = loop.contact_sensor
-    for index in range(count):
-        contacts[0, index] = sensordata[first + index]
-
-
-@numba.njit(cache=True, nogil=True)
-def catch_up(words: np.ndarray, index: int, step: int) -> None:
-    """Python's turn at physics ``step``: do robot ``index``'s work due now, if not done.
-
-    ``words`` is the records' array viewed as float64 (numba takes a plain array from
-    Python much faster than a structured one).
-    """
-    _run_due(words.view(BASE_LOOP)[index], step)
-
-
 def base_kernel(model: int, data: int, address: int) -> None:  # pragma: no cover - compiled
     """The kernel (``mjcb_control``) of every base of one simulation (module docstring)."""
     first = numba.carray(pointer(address), (LOOP_WORDS,), np.float64).view(BASE_LOOP)
     size = first[0].group_size
     loops = numba.carray(pointer(address), (size * LOOP_WORDS,), np.float64).view(BASE_LOOP)
     gate = numba.carray(pointer(loops[0].gate_address), (1,), np.int64)
-    if gate[0] != 0:
-        time = np.empty(1)
-        mj_get_state(pointer(model), pointer(data), pointer(time.ctypes.data), STATE_TIME)
-        step = int(np.rint(time[0] / loops[0].physics_dt))
-        for index in range(size):
-            _run_due(loops[index], step)
+    if gate[0] == 0:
+        return
+    time = np.empty(1)
+    mj_get_state(pointer(model), pointer(data), pointer(time.ctypes.data), STATE_TIME)
+    step = int(np.rint(time[0] / loops[0].physics_dt))
     for index in range(size):
-        _remember_contacts(loops[index])
+        _run_due(loops[index], step)
 
 
 @functools.cache

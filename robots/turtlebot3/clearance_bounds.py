@@ -12,6 +12,12 @@ rectangle or a disc) and the disc that holds the footprint cylinder's shadow on 
 less :data:`BOUND_MARGIN`. Both shapes project inside those outlines, so the bound holds; when
 the outlines overlap the gap is negative, as deep as the shift that would part them (a
 penetration is never deeper than that).
+
+Compiled because the metrics ask for the clearance 20 times a simulated second: from Python
+the bounds would be a dozen numpy passes and each exact distance a call through the bindings;
+compiled, the whole search is one call. The tests compare its answer with the exhaustive
+search over ``mj_geomDistance`` (``tests/test_clearance_bounds.py``). MuJoCo's arrays travel
+in one :data:`~baobab.sim.mujoco_native.GEOM_ARRAYS` record.
 """
 
 from __future__ import annotations
@@ -22,7 +28,7 @@ import mujoco
 import numba
 import numpy as np
 
-from baobab.sim.mujoco_native import address, geom_distance
+from baobab.sim.mujoco_native import address, geom_arrays, geom_distance, geom_views
 
 _BOX = int(mujoco.mjtGeom.mjGEOM_BOX)
 _CYLINDER = int(mujoco.mjtGeom.mjGEOM_CYLINDER)
@@ -36,23 +42,19 @@ UPRIGHT = 1.0 - 1e-9
 
 @numba.njit(cache=True, nogil=True)
 def clearance_bounds(
-    footprint: int,
-    geoms: np.ndarray,
-    geom_xpos: np.ndarray,
-    geom_xmat: np.ndarray,
-    geom_size: np.ndarray,
-    geom_rbound: np.ndarray,
-    geom_type: np.ndarray,
-    bounds: np.ndarray,
+    footprint: int, geoms: np.ndarray, geom: np.ndarray, bounds: np.ndarray
 ) -> None:  # pragma: no cover - compiled
     """Lower bounds (m) of the distances from the ``footprint`` cylinder to ``geoms``.
 
     Args:
         footprint: the footprint cylinder's geom id.
         geoms: obstacle geom ids (n,).
-        geom_xpos .. geom_type: the model's and data's arrays of the same names.
+        geom: the model's and data's :data:`~baobab.sim.mujoco_native.GEOM_ARRAYS` record.
         bounds: out (n,).
     """
+    geometry = geom_views(geom)
+    geom_xpos, geom_xmat, geom_size = geometry.geom_xpos, geometry.geom_xmat, geometry.geom_size
+    geom_rbound, geom_type = geometry.geom_rbound, geometry.geom_type
     cx, cy = geom_xpos[footprint, 0], geom_xpos[footprint, 1]
     axis = geom_xmat[footprint]
     # The footprint's shadow on the floor lies in a disc: radius plus the tilted axis' reach.
@@ -87,18 +89,13 @@ def _min_clearance(
     data: int,
     footprint: int,
     geoms: np.ndarray,
-    geom_xpos: np.ndarray,
-    geom_xmat: np.ndarray,
-    geom_size: np.ndarray,
-    geom_rbound: np.ndarray,
-    geom_type: np.ndarray,
+    geom: np.ndarray,
     max_distance: float,
     bounds: np.ndarray,
 ) -> float:  # pragma: no cover - compiled
-    """See :meth:`ClearanceBounds.min_clearance`; ``model``/``data`` are C addresses."""
-    clearance_bounds(
-        footprint, geoms, geom_xpos, geom_xmat, geom_size, geom_rbound, geom_type, bounds
-    )
+    """See :meth:`ClearanceBounds.min_clearance`; ``model``/``data`` are C addresses, ``geom``
+    the :data:`~baobab.sim.mujoco_native.GEOM_ARRAYS` record."""
+    clearance_bounds(footprint, geoms, geom, bounds)
     nearest = math.inf
     for _ in range(geoms.shape[0]):
         # The nearest bound not yet tried: usually one or two rounds.
@@ -136,13 +133,7 @@ class ClearanceBounds:
         self._bounds = np.empty(self._geoms.shape[0])
         # The struct addresses and array views, read once: each attribute read makes a view.
         self._addresses = (address(model), address(data))
-        self._arrays = (
-            data.geom_xpos,
-            data.geom_xmat,
-            model.geom_size,
-            model.geom_rbound,
-            model.geom_type,
-        )
+        self._geom = geom_arrays(model, data)  # valid while model and data live
         # The views must outlive nothing: keep the structs they point into alive.
         self._model, self._data = model, data
 
@@ -160,7 +151,7 @@ class ClearanceBounds:
                 data,
                 self._footprint,
                 self._geoms,
-                *self._arrays,
+                self._geom,
                 float(max_distance),
                 self._bounds,
             )
@@ -169,5 +160,5 @@ class ClearanceBounds:
     def sorted_bounds(self) -> list[tuple[float, int]]:
         """``(lower bound (m), geom id)`` of every obstacle geom, nearest bound first."""
         bounds = np.empty(self._geoms.shape[0])
-        clearance_bounds(self._footprint, self._geoms, *self._arrays, bounds)
+        clearance_bounds(self._footprint, self._geoms, self._geom, bounds)
         return sorted(zip(bounds.tolist(), self._geoms.tolist(), strict=True))

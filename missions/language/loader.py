@@ -1,0 +1,315 @@
+"""Load a mission file into a validated :class:`Mission`, or fail with one located error.
+
+Order of work (each step's errors come before the next step's):
+
+1. the located YAML loader (syntax, duplicate keys, aliases, nesting, size, NaN), unknown
+   top-level keys (a ``# yaml-language-server: $schema=...`` comment is optional, for editors);
+2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
+   timeout and expect (and a refusal of ``${`` anywhere else);
+3. the top-level model (types, events, expectations);
+4. robot, world (a bundled name or a file inside the mission's folder) and locations (the
+   world's spawns and locations, then the mission's, which win);
+5. start pose, the tree (node types, capabilities, parameters, goal poses in free space),
+   every subtree body, then the cross-checks of events and expectations.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from pydantic import TypeAdapter, ValidationError
+
+from baobab.behaviours.builtin import default_registry
+from baobab.behaviours.poses import MissionScope, Pose
+from baobab.behaviours.registry import Registry
+from baobab.missions.language.cross_checks import MissionChecks
+from baobab.missions.language.errors import MissionError, describe_validation_error, located
+from baobab.missions.language.models import (
+    SUBSTITUTED_SECTIONS,
+    TOP_LEVEL_KEYS,
+    Event,
+    Expect,
+    MissionFile,
+    Noise,
+    ParamName,
+    SubtreeSpec,
+)
+from baobab.missions.language.params import (
+    ParamSpec,
+    Substitution,
+    check_no_placeholders,
+    resolve_values,
+)
+from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
+from baobab.robots.catalog import ROBOTS, RobotInfo
+from baobab.sim.errors import unknown_name
+from baobab.sim.input_files import file_kind_problem
+from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
+from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml, read_yaml_text
+
+SCHEMA_HEADER = "# yaml-language-server: $schema="
+"""The editor comment that bundled and generated missions begin with, before the schema's
+location; optional in a mission file."""
+_PARAMS = TypeAdapter(dict[ParamName, ParamSpec])
+
+
+@dataclass(frozen=True)
+class Mission:
+    """A validated mission, ready to compile and run.
+
+    Attributes:
+        path: the mission file.
+        name: the ``mission:`` value.
+        description: free text.
+        robot: the robot's catalogue entry.
+        world: the 2D world of a mobile robot; None for a fixed robot.
+        world_name: the bundled world or scene name, or the world file's resolved path.
+        start: the start pose of a mobile robot (the world's default spawn if not given).
+        seed: the seed of the run's random generator.
+        params: the value of every mission parameter after ``--set``.
+        locations: every named pose (world spawns and locations, then the mission's).
+        tree: the validated tree, subtrees expanded.
+        subtrees: the subtree declarations as written.
+        subtree_shapes: each subtree body's structure, parameters un-substituted (for export).
+        events: timed events, sorted by time (stable).
+        timeout: the run's limit (s of sim time).
+        expect: the expectations, if any.
+        document: the located YAML document (for messages about nodes).
+        noise: the run's sensor noise (off unless the file asks for it).
+    """
+
+    path: Path
+    name: str
+    description: str
+    robot: RobotInfo
+    world: World | None
+    world_name: str
+    start: Pose2D | None
+    seed: int
+    params: dict[str, Any]
+    locations: dict[str, Pose]
+    tree: Node
+    subtrees: dict[str, SubtreeSpec]
+    subtree_shapes: dict[str, NodeShape]
+    events: tuple[Event, ...]
+    timeout: float
+    expect: Expect | None
+    document: LocatedDocument
+    noise: Noise = field(default_factory=Noise)
+
+
+def load_mission(
+    path: str | Path,
+    overrides: Mapping[str, str] | None = None,
+    *,
+    text: str | None = None,
+    registry: Registry | None = None,
+) -> Mission:
+    """Load, substitute and validate a mission file.
+
+    Args:
+        path: the mission file (also names it in messages when ``text`` is given).
+        overrides: ``--set`` values by parameter name, as written on the command line.
+        text: the file's content, if already in memory.
+        registry: node types; default: :func:`default_registry`.
+
+    Raises:
+        MissionError: the first problem, as ``path:line:col: message``.
+        WorldError: a problem inside the world file the mission names.
+    """
+    mission_path = Path(path)
+    if text is None:
+        text = read_yaml_text(mission_path, MissionError)
+    document = load_located_yaml(mission_path, MissionError, text=text)
+    return _Loader(mission_path, document, text, registry or default_registry()).load(
+        overrides or {}
+    )
+
+
+class _Loader:
+    def __init__(
+        self, path: Path, document: LocatedDocument, text: str, registry: Registry
+    ) -> None:
+        self.path = path
+        self.document = document
+        self.text = text
+        self.registry = registry
+        self.origins: dict[KeyPath, str] = {}
+
+    def _error(self, path: KeyPath, message: str) -> MissionError:
+        return located(self.document, path, message, self.origins)
+
+    def load(self, overrides: Mapping[str, str]) -> Mission:
+        data = self._top_level()
+        specs = self._params(data.get("params", {}))
+        values = resolve_values(specs, overrides, self.document)
+        for key in ("mission", "world", "robot", "seed", "params", "locations"):
+            if key in data:
+                check_no_placeholders(self.document, data[key], (key,))
+        substitution = Substitution(
+            self.document, values, {k: s.type for k, s in specs.items()}, "the mission"
+        )
+        substituted = {
+            key: substitution.apply(value, (key,)) if key in SUBSTITUTED_SECTIONS else value
+            for key, value in data.items()
+        }
+        self.origins.update(substitution.origins)
+        try:
+            file = MissionFile.model_validate(substituted)
+        except ValidationError as exc:
+            raise describe_validation_error(
+                self.document,
+                exc,
+                data=substituted,
+                base_path=(),
+                label="",
+                model=MissionFile,
+                origins=self.origins,
+                nouns={("expect",): "expectation", ("params",): "parameter"},
+            ) from None
+        robot = ROBOTS[file.robot]
+        world, world_name = self._world(file.world, robot)
+        scope = MissionScope(robot, world, self._locations(file, robot, world))
+        start = self._start(file.start, scope, world)
+        parser = TreeParser(self.document, self.registry, scope, file.subtrees, self.origins)
+        tree = parser.parse(file.tree, ("tree",))
+        shapes = {name: parser.check_template(name, spec) for name, spec in file.subtrees.items()}
+        checks = MissionChecks(self.document, scope, self.origins)
+        checks.events(file.events, file.timeout)
+        checks.noise(file.noise)
+        if file.expect is not None:
+            checks.expect(file.expect, file.timeout)
+        return Mission(
+            path=self.path,
+            name=file.mission,
+            description=file.description,
+            robot=robot,
+            world=world,
+            world_name=world_name,
+            start=start,
+            seed=file.seed,
+            params=values,
+            locations=dict(scope.locations),
+            tree=tree,
+            subtrees=dict(file.subtrees),
+            subtree_shapes=shapes,
+            events=tuple(sorted(file.events, key=lambda event: event.at)),
+            timeout=file.timeout,
+            expect=file.expect,
+            document=self.document,
+            noise=file.noise,
+        )
+
+    def _top_level(self) -> dict[str, Any]:
+        data = self.document.data
+        if not isinstance(data, dict):
+            raise self._error((), "a mission file is a mapping of top-level keys")
+        for key in data:
+            if key not in TOP_LEVEL_KEYS:
+                raise self._error((key,), unknown_name("top-level key", key, TOP_LEVEL_KEYS))
+        return data
+
+    def _params(self, raw: Any) -> dict[str, ParamSpec]:
+        try:
+            return _PARAMS.validate_python(raw)
+        except ValidationError as exc:
+            raise describe_validation_error(
+                self.document,
+                exc,
+                data=raw,
+                base_path=("params",),
+                label="params",
+                model=dict[ParamName, ParamSpec],
+            ) from None
+
+    def _world(self, written: str | None, robot: RobotInfo) -> tuple[World | None, str]:
+        if not robot.mobile:
+            if written is None:
+                return None, robot.scenes[0]
+            if written not in robot.scenes:
+                message = unknown_name(f"scene for robot '{robot.name}'", written, robot.scenes)
+                raise self._error(("world",), message)
+            return None, written
+        bundled = bundled_world_names()
+        if written is None:
+            raise self._error(
+                ("robot",),
+                f"robot '{robot.name}' needs a world: a bundled name "
+                f"({', '.join(bundled) or 'none installed'}) or a world file in the mission's "
+                "folder",
+            )
+        if "/" not in written and "\\" not in written and not written.endswith((".yaml", ".yml")):
+            if written not in bundled:
+                raise self._error(("world",), unknown_name("world", written, bundled))
+            return load_world(written), written
+        relative = Path(written)
+        folder = self.path.parent.resolve()
+        resolved = (folder / relative).resolve()
+        if relative.is_absolute() or not resolved.is_relative_to(folder):
+            raise self._error(
+                ("world",),
+                f"world file '{written}' is outside the mission's folder; give a bundled world "
+                "name or a path inside the folder",
+            )
+        try:
+            problem = file_kind_problem(resolved.stat().st_mode)
+        except OSError:
+            problem = "does not exist"
+        if problem == "does not exist":
+            raise self._error(("world",), f"no world file '{written}' in the mission's folder")
+        if problem is not None:
+            raise self._error(("world",), f"world file '{written}' {problem}; expected a file")
+        return load_world(resolved), str(resolved)
+
+    def _locations(
+        self, file: MissionFile, robot: RobotInfo, world: World | None
+    ) -> dict[str, Pose]:
+        locations: dict[str, Pose] = {}
+        if world is not None:
+            for name, planar in {**world.spawns, **world.locations}.items():
+                locations[name] = Pose.from_planar(planar.x, planar.y, planar.yaw).named(name)
+        for name, pose in file.locations.items():
+            if world is not None and robot.mobile and not world.contains(pose.x, pose.y):
+                raise self._error(
+                    ("locations", name),
+                    f"location '{name}' ({pose.x:.2f}, {pose.y:.2f}) is outside the floor of "
+                    f"world '{world.name}'",
+                )
+            locations[name] = pose.named(name)
+        return locations
+
+    def _start(self, written: Any, scope: MissionScope, world: World | None) -> Pose2D | None:
+        robot = scope.robot
+        if not robot.mobile:
+            if written is not None:
+                raise self._error(
+                    ("start",), f"start applies to mobile robots; {robot.name} stands still"
+                )
+            return None
+        if written is None:
+            if world is None:
+                return None
+            spawn = Pose.from_planar(world.spawn.x, world.spawn.y, world.spawn.yaw)
+            problem = scope.free_space_problem(spawn)
+            if problem is not None:
+                raise self._error(
+                    ("world",),
+                    f"the start (world '{world.name}', spawn 'default') {problem}; give the "
+                    "mission a start: in free space",
+                )
+            return world.spawn
+        try:
+            pose = scope.resolve(written)
+        except ValidationError as exc:
+            raise describe_validation_error(
+                self.document, exc, data=written, base_path=("start",), label="start"
+            ) from None
+        except ValueError as exc:
+            raise self._error(("start",), f"start: {exc}") from None
+        problem = scope.free_space_problem(pose)
+        if problem is not None:
+            raise self._error(("start",), f"start {problem}")
+        return pose.pose2d()

@@ -1,0 +1,366 @@
+"""Build the simulation and the capability servers a mission's robot needs: a *rig*.
+
+A rig bundles the :class:`~baobab.sim.simulation.Simulation`, the
+:class:`~baobab.behaviours.ports.Capabilities` the compiled tree talks to, the run's metrics,
+where events put obstacles and teleop input, and what the trace and plot read from the robot.
+
+Imports are lazy on purpose: a mobile run never imports the Panda package (Pinocchio is slow
+to load), and the navigation stack (numba kernels) is imported only when the tree uses the
+``navigation`` capability.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, Protocol
+
+import numpy as np
+
+from baobab.behaviours.ports import NAVIGATION, Capabilities, NavigationPort
+from baobab.behaviours.poses import Pose
+from baobab.missions.language.loader import Mission
+from baobab.missions.run.arm_probes import ArmProbe, TrackingProbe
+from baobab.missions.run.event_targets import ObstacleSlots, TeleopChannel
+from baobab.missions.run.metrics import MetricRegistry, register_teleop_metrics
+from baobab.missions.run.mobile_probe import MobileProbe
+from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
+from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
+from baobab.robots.turtlebot3.robot import TurtleBot3
+from baobab.sim.errors import BaobabError
+from baobab.sim.simulation import Simulation
+from baobab.sim.tasks import TaskHandle
+from baobab.sim.world import Pose2D, World
+
+if TYPE_CHECKING:
+    from baobab.nav.server import NavigationServer
+
+ARM_CONTACT_NAME_PERIOD = 0.01
+"""How often (s) the arm's contacts are looked at for the names of what it touched."""
+
+PATH_SAMPLE_PERIOD = 0.5
+"""How often the navigation server's current path is looked at for the plot (s)."""
+MAX_PLOTTED_PATHS = 400
+
+
+class Rig(Protocol):
+    """A robot ready to run a mission (see the module docstring)."""
+
+    sim: Simulation
+    capabilities: Capabilities
+    metrics: MetricRegistry
+    obstacles: ObstacleSlots | None
+    teleop: TeleopChannel | None
+
+    def state(self) -> dict[str, Any]:
+        """The robot's state for the trace's ``pose`` records (sim-determined numbers)."""
+        ...
+
+    def stop(self) -> None:
+        """Bring the robot to rest (after the tree was halted)."""
+        ...
+
+    def plot_data(self, title: str) -> PlotData:
+        """What the run's plot shows."""
+        ...
+
+
+def uses_capability(mission: Mission, capability: str) -> bool:
+    """True when some node of the mission's tree needs ``capability``."""
+    return any(node.behaviour.capability == capability for node in mission.tree.walk())
+
+
+def build_rig(mission: Mission, seed: int) -> Rig:
+    """The rig for ``mission``'s robot, seeded with ``seed``.
+
+    Raises:
+        BaobabError: the world or the robot cannot be built.
+    """
+    if mission.robot.mobile:
+        return MobileRig(mission, seed)
+    return ArmRig(mission, seed)
+
+
+def mission_goals(mission: Mission) -> list[tuple[str, Pose]]:
+    """Every goal pose written in the tree (node parameters holding poses), in tree order."""
+    goals: list[tuple[str, Pose]] = []
+    for node in mission.tree.walk():
+        for key in type(node.params).model_fields:
+            value = getattr(node.params, key)
+            poses = value if isinstance(value, list) else [value]
+            for pose in poses:
+                if isinstance(pose, Pose):
+                    goals.append((pose.location or f"({pose.x:.1f}, {pose.y:.1f})", pose))
+    return goals
+
+
+def build_navigation(
+    sim: Simulation, robot: TurtleBot3, world: World, teleop: TeleopChannel
+) -> NavigationServer:
+    """The navigation server of a TurtleBot3, fed by teleop events (imported only now)."""
+    from baobab.nav.server import build_navigation as build_server
+
+    server = build_server(sim, robot.base, robot.lidar, world)
+    teleop.subscribe(lambda twist: server.teleop_command(*(twist or (0.0, 0.0))))
+    return server
+
+
+class ClearCountingPort:
+    """The navigation server as the tree's :class:`NavigationPort`, counting its clearings.
+
+    ``clear_costmaps`` is counted on its way through, so the ``costmap_clears`` metric tells
+    how often the mission's ``clear_costmaps`` and ``clear_costmaps_when_stuck`` nodes cleared
+    (Nav2's own recoveries count as ``number_of_recoveries``); every other request goes to the
+    server as it is.
+    """
+
+    def __init__(self, server: NavigationServer) -> None:
+        self.server = server
+        self.clears = 0
+
+    def clear_costmaps(self, which: str = "all") -> None:
+        """Count, then clear the ``local``, ``global`` or ``all`` costmaps."""
+        self.clears += 1
+        self.server.clear_costmaps(which)
+
+    def navigate_to_pose(self, goal: Pose2D) -> TaskHandle:
+        """The server's NavigateToPose."""
+        return self.server.navigate_to_pose(goal)
+
+    def navigate_through_poses(self, goals: Sequence[Pose2D]) -> TaskHandle:
+        """The server's NavigateThroughPoses."""
+        return self.server.navigate_through_poses(goals)
+
+    def follow_waypoints(
+        self, waypoints: Sequence[Pose2D], wait_at_waypoint: float, stop_on_failure: bool
+    ) -> TaskHandle:
+        """The server's FollowWaypoints."""
+        return self.server.follow_waypoints(waypoints, wait_at_waypoint, stop_on_failure)
+
+    def follow_path(self, path: Sequence[Pose2D]) -> TaskHandle:
+        """The server's FollowPath."""
+        return self.server.follow_path(path)
+
+    def spin(self, target_yaw: float, time_allowance: float) -> TaskHandle:
+        """The server's Spin."""
+        return self.server.spin(target_yaw, time_allowance)
+
+    def back_up(self, distance: float, speed: float, time_allowance: float) -> TaskHandle:
+        """The server's BackUp."""
+        return self.server.back_up(distance, speed, time_allowance)
+
+    def drive_on_heading(self, distance: float, speed: float, time_allowance: float) -> TaskHandle:
+        """The server's DriveOnHeading."""
+        return self.server.drive_on_heading(distance, speed, time_allowance)
+
+    def wait(self, duration: float) -> TaskHandle:
+        """The server's Wait."""
+        return self.server.wait(duration)
+
+    def assisted_teleop(self, time_allowance: float) -> TaskHandle:
+        """The server's AssistedTeleop."""
+        return self.server.assisted_teleop(time_allowance)
+
+    def robot_pose(self) -> Pose2D:
+        """The robot's map-frame pose."""
+        return self.server.robot_pose()
+
+
+class MobileRig:
+    """A TurtleBot3 in a 2D world with base controllers and, when needed, navigation."""
+
+    def __init__(self, mission: Mission, seed: int) -> None:
+        from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
+
+        world = mission.world
+        if world is None:
+            raise BaobabError(f"mission '{mission.name}' has no world for a mobile robot")
+        self.world = world
+        self.mission = mission
+        self.sim, self.robot = build_turtlebot3_sim(
+            world, mission.start, seed=seed, lidar_noise_std=mission.noise.lidar_std
+        )
+        self.controllers = BaseControllerServer(self.sim, self.robot.base, self.robot.lidar)
+        self.teleop: TeleopChannel | None = TeleopChannel()
+        self.obstacles: ObstacleSlots | None = ObstacleSlots(self.sim)
+        self.navigation: NavigationServer | None = None
+        self.planned_paths: list[np.ndarray] = []
+        self.clear_counter: ClearCountingPort | None = None
+        port: NavigationPort | None = None
+        sim = self.sim
+        if uses_capability(mission, NAVIGATION):
+            self.navigation = build_navigation(sim, self.robot, world, self.teleop)
+            self.clear_counter = ClearCountingPort(self.navigation)
+            port = self.clear_counter
+            sim.every(PATH_SAMPLE_PERIOD, self._sample_path, name="plot paths")
+        self.capabilities = Capabilities(
+            clock=lambda: sim.time, navigation=port, base_controllers=self.controllers
+        )
+        spawn_names = set(world.spawns) - set(world.locations)
+        locations = {
+            name: (pose.x, pose.y)
+            for name, pose in mission.locations.items()
+            if pose.planar and name not in spawn_names
+        }
+        self.locations = locations
+        self.probe = MobileProbe(sim, self.robot.base, locations)
+        self.metrics = MetricRegistry()
+        self.metrics.add("sim_time", lambda: sim.time, unit="s", description="run length")
+        self.probe.register(self.metrics)
+        self.metrics.add(
+            "number_of_recoveries",
+            self._recoveries,
+            description="recovery actions started by the navigation server",
+        )
+        self.metrics.add(
+            "planned_path_length",
+            self._planned_path_length,
+            unit="m",
+            description="sum of each navigation goal's first plan; null without one",
+        )
+        self.metrics.add(
+            "costmap_clears",
+            lambda: 0 if self.clear_counter is None else self.clear_counter.clears,
+            description="costmap clearings by the mission's tree (not Nav2's recoveries)",
+        )
+        self.metrics.add(
+            "replans",
+            lambda: 0 if self.navigation is None else self.navigation.metrics.replans,
+            description="paths planned after a goal's first",
+        )
+        register_teleop_metrics(
+            self.metrics, lambda: None if self.navigation is None else self.navigation.teleop_stats
+        )
+
+    def _recoveries(self) -> int:
+        return 0 if self.navigation is None else self.navigation.metrics.number_of_recoveries
+
+    def _planned_path_length(self) -> float | None:
+        if self.navigation is None or self.navigation.metrics.plans == 0:
+            return None
+        return self.navigation.metrics.planned_path_length
+
+    def _sample_path(self, _now: float) -> None:
+        path = None if self.navigation is None else self.navigation.current_path
+        if path is None or len(self.planned_paths) >= MAX_PLOTTED_PATHS:
+            return
+        xy = np.asarray(path.xy, dtype=float)
+        last = self.planned_paths[-1] if self.planned_paths else None
+        if last is None or last.shape != xy.shape or not np.array_equal(last, xy):
+            self.planned_paths.append(xy.copy())
+
+    def state(self) -> dict[str, Any]:
+        """Ground-truth pose (m, rad) and body velocity (m/s, rad/s)."""
+        base = self.robot.base
+        pose = base.pose()
+        linear, angular = base.body_velocity()
+        return {"x": pose.x, "y": pose.y, "yaw": pose.yaw, "v": linear, "w": angular}
+
+    def stop(self) -> None:
+        """Command zero velocity."""
+        self.robot.base.stop()
+
+    def plot_data(self, title: str) -> MobilePlot:
+        """The map-view plot of this run."""
+        probe = self.probe
+        bug2 = self.controllers.bug2_controller
+        clearance_at = probe.min_clearance_at
+        plot = MobilePlot(
+            title=title,
+            world=self.world,
+            times=probe.times,
+            xs=probe.xs,
+            ys=probe.ys,
+            locations=dict(self.locations),
+            goals=[(label, (pose.x, pose.y)) for label, pose in mission_goals(self.mission)],
+            obstacles=list(self.obstacles.placed.values()) if self.obstacles else [],
+            hit_points=list(bug2.hit_points) if bug2 else [],
+            leave_points=list(bug2.leave_points) if bug2 else [],
+            min_clearance_at=None if clearance_at is None else clearance_at[1:],
+        )
+        self._navigation_layers(plot)
+        return plot
+
+    def _navigation_layers(self, plot: MobilePlot) -> None:
+        if self.navigation is None:
+            return
+        costmap = self.navigation.global_costmap()
+        plot.costmap = CostmapImage(costmap.data.copy(), costmap.origin, costmap.resolution)
+        plot.planned_paths = list(self.planned_paths)
+
+
+class ArmRig:
+    """The Panda on its table with the arm server (imported only now: Pinocchio)."""
+
+    obstacles: ObstacleSlots | None = None
+    teleop: TeleopChannel | None = None
+
+    def __init__(self, mission: Mission, seed: int) -> None:
+        from baobab.missions.run.arm_port import PandaArmPort
+        from baobab.robots.panda.scene import PREFIX, build_panda_sim, place_target
+
+        self.mission = mission
+        self.sim, self.server = build_panda_sim(seed=seed)
+        self.port = PandaArmPort(self.sim, self.server)
+        sim = self.sim
+        self.capabilities = Capabilities(clock=lambda: sim.time, arm=self.port)
+        self.objects = list(mission.robot.scene_objects)
+        self.probe = ArmProbe(
+            sim,
+            lambda: self.server.tcp_pose().position,
+            self.objects,
+            robot_prefix=PREFIX,
+            # Counted at every step by the arm's compiled loop; Python samples the contacts
+            # only for the names of what was touched.
+            contact_period=ARM_CONTACT_NAME_PERIOD,
+            contact_count=lambda: self.server.contact_steps,
+        )
+        self.place_target = tuple(float(v) for v in place_target(sim))
+        self.metrics = MetricRegistry()
+        self.metrics.add("sim_time", lambda: sim.time, unit="s", description="run length")
+        self.probe.register(self.metrics, self.place_target)
+        self.tracking = TrackingProbe(sim, self._tcp_and_setpoint)
+        self.tracking.register(self.metrics)
+
+    def _tcp_and_setpoint(self) -> tuple[np.ndarray, np.ndarray]:
+        """The tool and the impedance controller's set-point (m, world frame)."""
+        server = self.server
+        return np.asarray(server.tcp_pose().position), np.asarray(server.setpoint_position())
+
+    def state(self) -> dict[str, Any]:
+        """Tool pose (m, quaternion x, y, z, w), hand opening (m) and object positions (m)."""
+        pose = self.server.tcp_pose()
+        state: dict[str, Any] = {
+            "tcp": list(pose.position),
+            "quat": list(pose.quaternion),
+            "gripper": float(self.server.hand.width),
+        }
+        for name in self.objects:
+            state[name] = self.probe.position(name)
+        return state
+
+    def stop(self) -> None:
+        """Hold the tool where it is."""
+        self.server.hold()
+
+    def plot_data(self, title: str) -> ArmPlot:
+        """The 3D tool-path plot of this run."""
+        targets = [
+            (label, pose.position)
+            for label, pose in mission_goals(self.mission)
+            if not pose.planar and pose.location
+        ]
+        x, y, z = self.place_target
+        if all(math.dist(position, (x, y, z)) > 0.01 for _, position in targets):
+            targets.append(("place target", (x, y, z)))
+        tracking = self.tracking
+        return ArmPlot(
+            title=title,
+            tcp_path=self.probe.tcp_path,
+            object_paths=dict(self.probe.object_paths),
+            targets=targets,
+            tracking_times=tracking.times,
+            tracking_tcp=tracking.tcp,
+            setpoint_path=tracking.setpoint,
+            tracking_errors=tracking.errors,
+        )
