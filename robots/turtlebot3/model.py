@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import mujoco
 
-from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
-from baobab.sim.world import Pose2D
+from baobab.sim.builder import MAP_WALL_MATERIAL, MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
+from baobab.sim.world import FLOOR_NAME, Pose2D
 
 DEFAULT_PREFIX = "tb3/"
 OBSTACLE_GROUPS = (STATIC_GROUP, MOVABLE_GROUP)
@@ -133,6 +133,14 @@ class TurtleBot3Names:
     def touch_sensor(self, obstacle: str) -> str:
         """The contact sensor that counts the robot's contacts with the geom ``obstacle``."""
         return f"{self.prefix}touch/{obstacle}"
+
+    @property
+    def map_contact_sensors(self) -> tuple[str, str]:
+        """On a world with a map, the sensors that count the robot's contacts with the floor
+        and with any geom of the world body, in that order: the world body's count less the
+        floor's and the world file's obstacles' (each has its own sensor) is the robot's
+        contacts with the map's walls."""
+        return (f"{self.prefix}touch_map/{FLOOR_NAME}", f"{self.prefix}touch_map/world")
 
 
 def _wxyz_about_z(yaw: float) -> list[float]:
@@ -364,15 +372,24 @@ def attach_turtlebot3(
     """
     frame = spec.worldbody.add_frame(pos=[pose.x, pose.y, 0.0], quat=_wxyz_about_z(pose.yaw))
     robot = turtlebot3_spec(facts)
-    obstacles = [geom.name for geom in spec.geoms if geom.group in OBSTACLE_GROUPS]
+    obstacles = [geom for geom in spec.geoms if geom.group in OBSTACLE_GROUPS]
+    named = [geom.name for geom in obstacles if geom.material != MAP_WALL_MATERIAL]
+    has_map = len(named) < len(obstacles)
     frame.attach_body(robot.body("base_link"), prefix, "")
     names = TurtleBot3Names(prefix)
-    for obstacle in obstacles:
+    targets = [(mujoco.mjtObj.mjOBJ_GEOM, name, names.touch_sensor(name)) for name in named]
+    if has_map:
+        # A map has thousands of boxes, and MuJoCo matches every contact sensor against every
+        # contact at each step: two sensors count them all instead (map_contact_sensors).
+        floor_sensor, world_sensor = names.map_contact_sensors
+        targets.append((mujoco.mjtObj.mjOBJ_GEOM, FLOOR_NAME, floor_sensor))
+        targets.append((mujoco.mjtObj.mjOBJ_BODY, "world", world_sensor))
+    for kind, target, sensor in targets:
         spec.add_sensor(
-            name=names.touch_sensor(obstacle),
+            name=sensor,
             type=mujoco.mjtSensor.mjSENS_CONTACT,
-            objtype=mujoco.mjtObj.mjOBJ_GEOM,
-            objname=obstacle,
+            objtype=kind,
+            objname=target,
             reftype=mujoco.mjtObj.mjOBJ_XBODY,
             refname=names.body,
             intprm=[_CONTACT_FOUND, 0, 1],
