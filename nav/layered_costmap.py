@@ -2,7 +2,8 @@
 
 A :class:`LayeredCostmap` combines a static layer (the world's geometry), an obstacle layer
 (lidar) and an inflation layer into one master :class:`~baobab.nav.costmap.Costmap2D`, the way
-Nav2's ``Costmap2DROS`` does: static cells first, then the maximum with the obstacle layer, then
+Nav2's ``Costmap2DROS`` does: static cells first, then the obstacle layer's over them (Nav2's
+``updateWithMax``: a lidar hit is lethal on any static cell, an unknown one included), then
 inflation. Updates are incremental and lazy: a scan records the cells whose combined value it
 changed, a rolling window's move shifts the master and records the cells that entered, and the
 master is recomputed only there (plus the inflation radius around changed cells) and only when
@@ -314,11 +315,10 @@ class LayeredCostmap:
         layers = self._layers
         window = self._window()
         for rect in rects:
-            if static_costs is not None and refresh_window_static(
-                layers, static_costs, window, rect, self._scratch.costs
-            ):
-                continue
-            refresh_window(layers, window, rect, self._scratch)
+            if static_costs is not None:
+                refresh_window_static(layers, static_costs, window, rect, self._scratch.costs)
+            else:
+                refresh_window(layers, window, rect, self._scratch)
         if self.keepout is not None:
             master = self._master.data
             for x0, y0, x1, y1 in rects:

@@ -7,10 +7,10 @@ from pathlib import Path
 import mujoco
 import numpy as np
 import pytest
-from map_files import maze_pixels, room_pixels, write_map
+from map_files import UNKNOWN_PIXEL, maze_pixels, room_pixels, write_map
 from scipy import ndimage
 
-from baobab.nav.costmap import LETHAL_OBSTACLE, NO_INFORMATION
+from baobab.nav.costmap import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
 from baobab.nav.layers import InflationLayer, StaticLayer
 from baobab.nav.static_map import StaticLayerParams, map_costs
@@ -176,6 +176,24 @@ def test_global_costmap_is_cell_exact_over_a_maze(tmp_path: Path, track_unknown:
     assert np.array_equal(costmap.data, expected)
     assert (costmap.data == LETHAL_OBSTACLE).sum() == (grid.data == 100).sum()
     assert ((costmap.data == NO_INFORMATION).sum() > 0) == track_unknown
+
+
+def test_lidar_hits_on_unknown_map_cells_are_lethal_as_in_nav2(tmp_path: Path) -> None:
+    pixels = room_pixels(80, 60)
+    pixels[:, 50:] = UNKNOWN_PIXEL  # the east part unexplored: solid, and unknown to the costmap
+    world = load_world(write_map(tmp_path, pixels))
+    _sim, robot = build_turtlebot3_sim(world, Pose2D(x=1.5, y=1.5))
+    params = CostmapParams(static=StaticLayerParams(track_unknown_space=True))
+    layers = LayeredCostmap.global_costmap(world, params)
+    before = layers.costmap.data.copy()
+    layers.update(robot.base.pose(), [robot.lidar.scan()])
+    after = layers.costmap.data
+    edge = after[5:55, 50]  # the unknown cells the beams hit: the first unknown column
+    assert (before[5:55, 50] == NO_INFORMATION).all()
+    assert (edge == LETHAL_OBSTACLE).sum() >= 40
+    assert (after[5:55, 53:75] == NO_INFORMATION).all()  # behind the hits: still unknown
+    # A cleared beam does not free unknown cells (baobab's obstacle layer does not track them).
+    assert (after[before == NO_INFORMATION] >= INSCRIBED_INFLATED_OBSTACLE).all()
 
 
 def test_boxes_and_cylinders_of_a_world_file_stand_on_the_map(tmp_path: Path) -> None:
