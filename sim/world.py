@@ -324,6 +324,30 @@ class World(_Strict):
         grid = self._maps.grid
         return None if grid is None else grid.solid(self.unknown_is_solid)
 
+    def with_filters(self, filters: FilterSettings, folder: Path) -> World:
+        """This world with ``filters`` (mask paths relative to ``folder``, inside it) in place
+        of its own filters of the same kinds: a mission's ``filters:``.
+
+        Raises:
+            FieldValueError: a mask outside ``folder``, missing, or off the map (located at
+                the key ``(kind,)`` in ``filters``).
+            WorldError: a problem inside a mask file (located in it).
+        """
+        try:
+            loaded = load_world_maps(None, filters, folder, self._maps.grid, "mission's")
+        except FieldValueError as exc:
+            raise FieldValueError(exc.key_path[1:], str(exc)) from None
+        own = self.filters or FilterSettings()
+        kept = FilterSettings(
+            keepout=filters.keepout or own.keepout, speed=filters.speed or own.speed
+        )
+        world = self.model_copy(update={"filters": kept})
+        masks = self._maps
+        world._maps = WorldMaps(
+            masks.grid, loaded.keepout or masks.keepout, loaded.speed or masks.speed
+        )
+        return world
+
     def pose(self, name: str) -> Pose2D:
         """A named location or spawn pose; ``WorldError``-free lookup is the caller's job."""
         if name in self.locations:

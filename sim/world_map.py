@@ -22,7 +22,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
-from pydantic import ConfigDict, Field, model_validator
+from pydantic import ConfigDict, Field, GetJsonSchemaHandler, model_validator
+from pydantic.json_schema import JsonSchemaValue
+from pydantic_core import CoreSchema
 
 from baobab.sim.errors import WorldError, clip
 from baobab.sim.yaml_models import YamlModel
@@ -50,6 +52,14 @@ class _Strict(YamlModel):
 
 class _FileShorthand(_Strict):
     """Accepts a bare path in place of the mapping (``map: ./office.yaml``)."""
+
+    @classmethod
+    def __get_pydantic_json_schema__(
+        cls, core_schema: CoreSchema, handler: GetJsonSchemaHandler
+    ) -> JsonSchemaValue:
+        mapping = handler(core_schema)
+        path = {"type": "string", "minLength": 1, "description": f"the {cls._path_key()} alone"}
+        return {"anyOf": [path, mapping]}
 
     @model_validator(mode="before")
     @classmethod
@@ -127,21 +137,33 @@ class WorldMaps:
 
 
 def load_world_maps(
-    map_settings: MapSettings | None, filters: FilterSettings | None, folder: Path
+    map_settings: MapSettings | None,
+    filters: FilterSettings | None,
+    folder: Path,
+    grid: OccupancyMap | None = None,
+    owner: str = "world's",
 ) -> WorldMaps:
     """Load the map and the masks a world names, relative to its ``folder``.
+
+    Args:
+        map_settings: the world's ``map:``, if any.
+        filters: the world's (or a mission's) ``filters:``, if any.
+        folder: where the files are named from; they must lie inside it.
+        grid: the map the masks go on, when ``map_settings`` does not name it.
+        owner: whose folder it is, in messages (``world's``, ``mission's``).
 
     Raises:
         FieldValueError: a file outside ``folder`` or missing (located at the world's key).
         WorldError: a problem inside a map or mask file (located in that file).
     """
-    grid = keepout = speed = None
+    keepout = speed = None
     if map_settings is not None:
-        grid = _load(folder, map_settings.file, ("map",), "map")
+        grid = _load(folder, map_settings.file, ("map",), "map", owner)
     if filters is not None and filters.keepout is not None:
-        keepout = _load(folder, filters.keepout.mask, ("filters", "keepout"), "keepout mask")
+        at: KeyPath = ("filters", "keepout")
+        keepout = _load(folder, filters.keepout.mask, at, "keepout mask", owner)
     if filters is not None and filters.speed is not None:
-        speed = _load(folder, filters.speed.mask, ("filters", "speed"), "speed mask")
+        speed = _load(folder, filters.speed.mask, ("filters", "speed"), "speed mask", owner)
     for mask, key in ((keepout, "keepout"), (speed, "speed")):
         if mask is not None and grid is not None and not _overlap(mask, grid):
             raise FieldValueError(
@@ -152,11 +174,11 @@ def load_world_maps(
     return WorldMaps(grid, keepout, speed)
 
 
-def _load(folder: Path, name: str, key: KeyPath, what: str) -> OccupancyMap:
+def _load(folder: Path, name: str, key: KeyPath, what: str, owner: str) -> OccupancyMap:
     path = folder / name
     if not Path(os.path.realpath(path)).is_relative_to(Path(os.path.realpath(folder))):
         raise FieldValueError(
-            key, f"the {what} '{clip(name)}' is outside the world's folder {clip(str(folder))}"
+            key, f"the {what} '{clip(name)}' is outside the {owner} folder {clip(str(folder))}"
         )
     if not path.exists():
         raise FieldValueError(key, f"the {what} '{clip(name)}' does not exist")

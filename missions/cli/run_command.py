@@ -93,6 +93,12 @@ def configure_run(parser: argparse.ArgumentParser) -> None:
         "mission", metavar="MISSION", help="a mission file, or the name of a bundled mission"
     )
     add_set(parser)
+    parser.add_argument(
+        "--world",
+        metavar="PATH",
+        help="run in this world instead of the mission's: a bundled name, a world YAML file "
+        "or a map_server map YAML (a map has no spawn: the mission needs a start)",
+    )
     parser.add_argument("--seed", type=int, help="override the mission's seed")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
     parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
@@ -158,7 +164,7 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
     recording = recording_options(args)
     if args.seed is not None and args.seed < 0:
         raise BaobabError(f"--seed must be >= 0, got {args.seed}")
-    mission = load_mission(resolve_mission(args.mission), overrides)
+    mission = load_mission(resolve_mission(args.mission), overrides, world=args.world)
     baseline = None
     if args.baseline and not args.baseline.exists():  # made after the run: must be writable
         check_output_file("--baseline", args.baseline, create_folders=True)

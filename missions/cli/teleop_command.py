@@ -1,8 +1,10 @@
-"""``baobab teleop --world NAME``: drive the TurtleBot3 with the keyboard, assisted teleop on.
+"""``baobab teleop --world NAME [--start X,Y,YAW]``: drive the TurtleBot3 with the keyboard,
+assisted teleop on.
 
-The robot starts at the world's spawn with its navigation server running one assisted teleop session
-without a time limit, so the collision projection slows it down near obstacles and stops it before
-them (:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the keyboard teleop's mapping
+The robot starts at ``--start`` or the world's spawn (on a map without one, its origin) with
+its navigation server running one assisted teleop session without a time limit, so the
+collision projection slows it down near obstacles and stops it before them
+(:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the keyboard teleop's mapping
 (:mod:`baobab.robots.turtlebot3.teleop`: WASD or ZQSD, 0.25 m/s and 1.2 rad/s) with the terminal
 rules of :mod:`baobab.robots.turtlebot3.teleop_terminal` (a press holds for 0.4 s, space stops,
 ``q`` quits). The simulation is paced to the wall clock, the one place where that is right, and a
@@ -24,6 +26,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, TextIO
 
+from baobab.missions.cli.arguments import add_start, start_pose
 from baobab.missions.run.exit_codes import EXIT_INVALID, EXIT_OK
 from baobab.robots.turtlebot3.teleop import LAYOUTS, layout_named
 from baobab.robots.turtlebot3.teleop_terminal import (
@@ -33,7 +36,7 @@ from baobab.robots.turtlebot3.teleop_terminal import (
     TerminalKeys,
 )
 from baobab.sim.tasks import TaskOutcome, TaskStatus
-from baobab.sim.world import World, load_world
+from baobab.sim.world import Pose2D, World, load_world
 
 if TYPE_CHECKING:
     from baobab.nav.server import NavigationServer
@@ -80,17 +83,18 @@ class TeleopSession:
     """A TurtleBot3 in ``world`` driven by key presses through assisted teleop (no terminal).
 
     Args:
-        world: where to drive; the robot starts at its default spawn.
+        world: where to drive.
         keys: the key rules (layout, hold time, speeds).
+        start: where the robot starts (m, rad); default: the world's spawn.
     """
 
-    def __init__(self, world: World, keys: TerminalKeys) -> None:
+    def __init__(self, world: World, keys: TerminalKeys, start: Pose2D | None = None) -> None:
         from baobab.nav.server import build_navigation  # the navigation stack loads slowly
         from baobab.robots.turtlebot3.robot import build_turtlebot3_sim  # MuJoCo: only to drive
 
         self.world = world
         self.keys = keys
-        self.sim, self.robot = build_turtlebot3_sim(world)
+        self.sim, self.robot = build_turtlebot3_sim(world, start)
         self.server: NavigationServer = build_navigation(
             self.sim, self.robot.base, self.robot.lidar, world
         )
@@ -203,7 +207,12 @@ def help_text(keys: TerminalKeys, world: str, width: int = 80) -> str:
 
 def configure_teleop(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``baobab teleop``."""
-    parser.add_argument("--world", required=True, help="a bundled world name (or a world file)")
+    parser.add_argument(
+        "--world",
+        required=True,
+        help="a bundled world name, a world YAML file or a map_server map YAML",
+    )
+    add_start(parser)
     parser.add_argument(
         "--layout",
         choices=sorted(LAYOUTS),
@@ -234,19 +243,16 @@ def teleop_command(args: argparse.Namespace) -> int:
 
     Raises:
         WorldError: for an unknown world (the CLI prints it and exits 2).
-        NavigatorSetupError: the world's default spawn is not free for the robot (exit 2).
+        BaobabError: a malformed start, or one not free for the robot (exit 2).
     """
     world = load_world(args.world)
-    from baobab.nav.navigator_robot import check_free
-    from baobab.robots.turtlebot3 import BURGER
-
-    check_free(world, world.spawn, BURGER.footprint_radius, what="the default spawn")
+    start = start_pose(args.start, world)
     stdin = sys.stdin
     if stdin is None or not stdin.isatty():
         print("baobab teleop: needs an interactive terminal (stdin is not a TTY)", file=sys.stderr)
         return EXIT_INVALID
     keys = TerminalKeys(layout_named(args.layout), hold_time=args.hold)
-    session = TeleopSession(world, keys)
+    session = TeleopSession(world, keys, start)
     out = sys.stdout
     width = _terminal_width()
     out.write(help_text(keys, world.name, width) + "\n\x1b[?25l")

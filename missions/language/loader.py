@@ -7,7 +7,8 @@ Order of work (each step's errors come before the next step's):
 2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
    timeout and expect (and a refusal of ``${`` anywhere else);
 3. the top-level model (types, events, expectations);
-4. robot, world (a bundled name or a file inside the mission's folder) and locations (the
+4. robot, world (a bundled name or a file inside the mission's folder: a world file or a
+   map_server map YAML; or ``--world``), the mission's costmap filter masks, and locations (the
    world's spawns and locations, then the mission's, which win);
 5. start pose, the tree (node types, capabilities, parameters, goal poses in free space),
    every subtree body, then the cross-checks of events and expectations.
@@ -45,10 +46,17 @@ from baobab.missions.language.params import (
 )
 from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
 from baobab.robots.catalog import ROBOTS, RobotInfo
-from baobab.sim.errors import unknown_name
+from baobab.sim.errors import BaobabError, unknown_name
 from baobab.sim.input_files import file_kind_problem
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
-from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml, read_yaml_text
+from baobab.sim.world_map import FilterSettings
+from baobab.sim.yaml_source import (
+    FieldValueError,
+    KeyPath,
+    LocatedDocument,
+    load_located_yaml,
+    read_yaml_text,
+)
 
 SCHEMA_HEADER = "# yaml-language-server: $schema="
 """The editor comment that bundled and generated missions begin with, before the schema's
@@ -107,6 +115,7 @@ def load_mission(
     *,
     text: str | None = None,
     registry: Registry | None = None,
+    world: str | Path | None = None,
 ) -> Mission:
     """Load, substitute and validate a mission file.
 
@@ -115,6 +124,8 @@ def load_mission(
         overrides: ``--set`` values by parameter name, as written on the command line.
         text: the file's content, if already in memory.
         registry: node types; default: :func:`default_registry`.
+        world: a world in place of the mission's (``--world``): a bundled name, a world file
+            or a map_server map YAML anywhere (the user named it); a mobile robot's only.
 
     Raises:
         MissionError: the first problem, as ``path:line:col: message``.
@@ -124,19 +135,24 @@ def load_mission(
     if text is None:
         text = read_yaml_text(mission_path, MissionError)
     document = load_located_yaml(mission_path, MissionError, text=text)
-    return _Loader(mission_path, document, text, registry or default_registry()).load(
-        overrides or {}
-    )
+    loader = _Loader(mission_path, document, text, registry or default_registry(), world)
+    return loader.load(overrides or {})
 
 
 class _Loader:
     def __init__(
-        self, path: Path, document: LocatedDocument, text: str, registry: Registry
+        self,
+        path: Path,
+        document: LocatedDocument,
+        text: str,
+        registry: Registry,
+        world: str | Path | None = None,
     ) -> None:
         self.path = path
         self.document = document
         self.text = text
         self.registry = registry
+        self.world_override = world
         self.origins: dict[KeyPath, str] = {}
 
     def _error(self, path: KeyPath, message: str) -> MissionError:
@@ -146,7 +162,7 @@ class _Loader:
         data = self._top_level()
         specs = self._params(data.get("params", {}))
         values = resolve_values(specs, overrides, self.document)
-        for key in ("mission", "world", "robot", "seed", "params", "locations"):
+        for key in ("mission", "world", "robot", "seed", "params", "locations", "filters"):
             if key in data:
                 check_no_placeholders(self.document, data[key], (key,))
         substitution = Substitution(
@@ -172,6 +188,8 @@ class _Loader:
             ) from None
         robot = ROBOTS[file.robot]
         world, world_name = self._world(file.world, robot)
+        if file.filters is not None:
+            world = self._filters(file.filters, world)
         scope = MissionScope(robot, world, self._locations(file, robot, world))
         start = self._start(file.start, scope, world)
         parser = TreeParser(self.document, self.registry, scope, file.subtrees, self.origins)
@@ -226,6 +244,13 @@ class _Loader:
             ) from None
 
     def _world(self, written: str | None, robot: RobotInfo) -> tuple[World | None, str]:
+        if self.world_override is not None:
+            if not robot.mobile:
+                raise BaobabError(
+                    f"--world: robot '{robot.name}' stands in its own scene "
+                    f"({', '.join(robot.scenes)}); --world is for mobile robots"
+                )
+            return load_world(self.world_override), str(self.world_override)
         if not robot.mobile:
             if written is None:
                 return None, robot.scenes[0]
@@ -264,6 +289,15 @@ class _Loader:
             raise self._error(("world",), f"world file '{written}' {problem}; expected a file")
         return load_world(resolved), str(resolved)
 
+    def _filters(self, filters: FilterSettings, world: World | None) -> World:
+        """The world with the mission's costmap filter masks (files in the mission's folder)."""
+        if world is None:
+            raise self._error(("filters",), "filters apply to a mobile robot's world")
+        try:
+            return world.with_filters(filters, self.path.parent)
+        except FieldValueError as exc:
+            raise self._error(("filters", *exc.key_path), str(exc)) from None
+
     def _locations(
         self, file: MissionFile, robot: RobotInfo, world: World | None
     ) -> dict[str, Pose]:
@@ -292,6 +326,12 @@ class _Loader:
         if written is None:
             if world is None:
                 return None
+            if "default" not in world.spawns:
+                raise self._error(
+                    ("world",),
+                    f"world '{world.name}' is a map with no spawn; give the mission a start: "
+                    "a pose [x, y, yaw] or a location, in free space",
+                )
             spawn = Pose.from_planar(world.spawn.x, world.spawn.y, world.spawn.yaw)
             problem = scope.free_space_problem(spawn)
             if problem is not None:

@@ -27,6 +27,7 @@ from baobab.behaviours.registry import NodeData
 from baobab.missions.language.params import PARAM_NAME_PATTERN, ParamSpec
 from baobab.robots.catalog import ROBOTS
 from baobab.sim.errors import unknown_name
+from baobab.sim.world_map import FilterSettings
 from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import FieldValueError, empty_list
 
@@ -350,11 +351,18 @@ class MissionFile(_Strict):
     description: str = ""
     world: str | None = Field(
         default=None,
-        description="a bundled world name, or a world file path inside the mission's folder",
+        description="a bundled world name, or a world file or a map_server map YAML inside "
+        "the mission's folder",
+    )
+    filters: FilterSettings | None = Field(
+        default=None,
+        description="Nav2 costmap filter masks (map_server YAML files inside the mission's "
+        "folder), replacing the world's of the same kind",
     )
     robot: RobotName
     start: Annotated[Any, POSE_REF_SCHEMA] = Field(
-        default=None, description="start pose or location; default: the world's spawn"
+        default=None,
+        description="start pose or location; default: the world's spawn (a map has none)",
     )
     seed: Annotated[int, Field(ge=0)] = 0
     params: dict[ParamName, ParamSpec] = Field(default_factory=dict)
