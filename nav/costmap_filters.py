@@ -165,7 +165,10 @@ class SpeedFilter:
 
     def limit_at(self, x: float, y: float) -> SpeedLimit | None:
         """The limit the mask sets at map point ``(x, y)`` (m), or None (nothing to publish)."""
-        value = self.mask.value_at(x, y)
+        return self.limit_of(self.mask.value_at(x, y))
+
+    def limit_of(self, value: int | None) -> SpeedLimit | None:
+        """The limit a mask value sets (None off the mask), or None (nothing to publish)."""
         if value is None or value < 0:
             return None
         if value == 0:

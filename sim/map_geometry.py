@@ -51,7 +51,12 @@ def _merged_runs(solid: np.ndarray) -> Rectangles:
 
 
 def signed_distance_to_cells(
-    cells: np.ndarray, origin: tuple[float, float], resolution: float, x: float, y: float
+    cells: np.ndarray,
+    origin: tuple[float, float],
+    resolution: float,
+    x: float,
+    y: float,
+    reach: int = 4,
 ) -> float:
     """Distance (m) from ``(x, y)`` to the nearest true cell's square; negative inside one.
 
@@ -64,13 +69,15 @@ def signed_distance_to_cells(
         resolution: cell side (m).
         x: the point (m).
         y: the point (m).
+        reach: cells around the point searched first (the search widens until it is sure):
+            a caller that knows about how far the nearest cell is saves the widening.
     """
     ix = math.floor((x - origin[0]) / resolution)
     iy = math.floor((y - origin[1]) / resolution)
     height, width = cells.shape
     inside = 0 <= ix < width and 0 <= iy < height and bool(cells[iy, ix])
     target = ~cells if inside else cells
-    distance = _nearest_square(target, origin, resolution, x, y, ix, iy)
+    distance = _nearest_square(target, origin, resolution, x, y, ix, iy, max(reach, 1))
     return -distance if inside else distance
 
 
@@ -82,14 +89,15 @@ def _nearest_square(
     y: float,
     ix: int,
     iy: int,
+    reach: int,
 ) -> float:
     """Distance (m) from ``(x, y)`` in cell ``(ix, iy)`` to the nearest true cell's square.
 
-    Searches square windows around the point, doubling their reach: every cell outside a
-    window of reach ``r`` cells is at least ``r`` cells away, so a hit that near is final.
+    Searches square windows around the point from ``reach`` cells, doubling: every cell
+    outside a window of reach ``r`` cells is at least ``r`` cells away, so a hit that near is
+    final.
     """
     height, width = cells.shape
-    reach = 4
     while True:
         best = math.inf
         i0, i1 = max(ix - reach, 0), min(ix + reach + 1, width)

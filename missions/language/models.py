@@ -284,6 +284,11 @@ class ObjectPlaced(_Strict):
     tolerance: Positive = 0.02
 
 
+SPEED_LIMIT_TOLERANCE = 0.01
+"""How much faster than a speed limit (m/s) ``within_speed_limits`` lets the robot go: the
+base's velocity tracking (bound ``metrics: speed_limit_excess`` for another figure)."""
+
+
 class Expect(_Strict):
     """What a run must show to count as intended. Every key is optional."""
 
@@ -296,6 +301,15 @@ class Expect(_Strict):
     visited_in_order: list[Name] | None = Field(default=None, min_length=1)
     min_clearance: NonNegative | None = Field(default=None, description="m, to any obstacle")
     no_contact: bool | None = None
+    no_keepout_entry: bool | None = Field(
+        default=None,
+        description="the footprint never reaches into a keepout zone of the keepout mask",
+    )
+    within_speed_limits: bool | None = Field(
+        default=None,
+        description="the speed stays within the speed mask's limits (at most "
+        f"{SPEED_LIMIT_TOLERANCE:g} m/s over) wherever the whole footprint is under one",
+    )
     max_path_length_ratio: Annotated[float, Field(ge=1, allow_inf_nan=False)] | None = Field(
         default=None, description="driven path length / straight-line distance"
     )
@@ -319,7 +333,11 @@ MOBILE_EXPECTATIONS = (
     "min_clearance",
     "max_path_length_ratio",
     "max_recoveries",
+    "no_keepout_entry",
+    "within_speed_limits",
 )
+FILTER_EXPECTATIONS = {"no_keepout_entry": "keepout", "within_speed_limits": "speed"}
+"""Expectations about a costmap filter mask, by the mask they need."""
 ARM_EXPECTATIONS = ("object_lifted", "object_placed")
 
 
