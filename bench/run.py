@@ -35,6 +35,7 @@ MOBILE_MISSIONS = (
     "farm_rows",
     "town_nav_to_pose",
     "assisted_teleop",
+    "office_patrol",
 )
 ARM_MISSIONS = ("panda_pick",)
 

@@ -271,7 +271,7 @@ class _Loader:
                 raise self._error(("world",), unknown_name("world", written, bundled))
             return load_world(written), written
         relative = Path(written)
-        folder = self.path.parent.resolve()
+        folder = self.path.resolve().parent  # the real folder of a linked mission file
         resolved = (folder / relative).resolve()
         if relative.is_absolute() or not resolved.is_relative_to(folder):
             raise self._error(
@@ -294,7 +294,7 @@ class _Loader:
         if world is None:
             raise self._error(("filters",), "filters apply to a mobile robot's world")
         try:
-            return world.with_filters(filters, self.path.parent)
+            return world.with_filters(filters, self.path.resolve().parent)
         except FieldValueError as exc:
             raise self._error(("filters", *exc.key_path), str(exc)) from None
 
