@@ -6,12 +6,12 @@ Sampled from the ground truth every :data:`SAMPLE_PERIOD` (20 Hz), only on a wor
   keepout zone, negative when the footprint reached into one (by that much). The zone is the
   mask's cells that Nav2's KeepoutFilter makes lethal (value 100); distances are exact, to
   the cells' squares.
-- ``speed_limit_excess`` (m/s): the most the ground-truth speed exceeded the speed mask's limit
-  (Nav2's SpeedFilter semantics; a percentage of the controller's ``desired_linear_vel``)
-  wherever the robot's whole footprint lay under that limit, 0 when it never did. Where the
-  footprint straddles a zone's edge the loosest limit under it counts, so the robot has the
-  time Nav2 gives it to slow down: its centre enters the zone first, then the filter's next
-  update (5 Hz) lowers the controller's speed.
+- ``speed_limit_excess`` (m/s): the most the ground-truth forward speed exceeded the speed
+  mask's limit (Nav2's SpeedFilter semantics; a percentage of the controller's
+  ``desired_linear_vel``) wherever the robot's whole footprint lay under that limit, 0 when
+  it never did. Where the footprint straddles a zone's edge the loosest limit under it
+  counts, so the robot has the time Nav2 gives it to slow down: its centre enters the zone
+  first, then the filter's next update (5 Hz) lowers the controller's speed.
 
 Both are None on a world without the mask.
 """
@@ -69,8 +69,7 @@ class ZoneProbe:
         if masks.speed is not None and speed is not None:
             self._speed = _SpeedZones(masks.speed, speed, footprint_radius, max_speed)
         self.speed_excess = -math.inf
-        self.worst_speed: tuple[float, float, float, float, float] | None = None
-        """(t, x, y, speed, limit) of the sample with the largest excess (m/s)."""
+        """The largest (forward speed - limit) of the samples under a limit (m/s)."""
         self.samples_under_limit = 0
         if self._keepout is not None or self._speed is not None:
             sim.every(SAMPLE_PERIOD, self._sample, name="metrics filter zones")
@@ -109,7 +108,7 @@ class ZoneProbe:
     def zone_images(self) -> list[ZoneImage]:
         """The keepout zone and each speed limit's zone, for the plot."""
         images: list[ZoneImage] = []
-        if self._keepout is not None and self._keepout.cells.any():
+        if self._keepout is not None and self._keepout.any:
             mask = self._keepout.mask
             cells = self._keepout.cells
             images.append(ZoneImage("keepout zone", cells, mask.origin, mask.resolution, True))
@@ -122,7 +121,7 @@ class ZoneProbe:
                 )
         return images
 
-    def _sample(self, now: float) -> None:
+    def _sample(self, _now: float) -> None:
         pose = self.base.pose()
         if self._keepout is not None:
             self._keepout.add(pose.x, pose.y)
@@ -132,9 +131,7 @@ class ZoneProbe:
                 return
             self.samples_under_limit += 1
             speed = abs(self.base.body_velocity()[0])
-            if speed - limit > self.speed_excess:
-                self.speed_excess = speed - limit
-                self.worst_speed = (now, pose.x, pose.y, speed, limit)
+            self.speed_excess = max(self.speed_excess, speed - limit)
 
 
 class _KeepoutZone:
