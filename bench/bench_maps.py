@@ -8,7 +8,7 @@ pixels, 0.05 % of the free cells). Then, best of ``--repeats``:
 
 - load: reading the YAML and the image, the occupancy values, merging the walls into boxes,
   attaching the Burger and compiling the MuJoCo model (s); the map cache is emptied first;
-- the model's geom count;
+- the model's geom and sensor count, and a bare ``mj_step`` against the cafe's (ratio);
 - lidar: wall time of one 360-beam scan at ten free poses of the map, over the same in the cafe
   (ratio; the cafe is measured in the same run);
 - navigation: a NavigateToPose run of about 9 m on the map, set-up included (real-time factor);
@@ -131,6 +131,18 @@ def navigation_rtf(world: World, start: Pose2D, goal: Pose2D) -> dict[str, float
     }
 
 
+def step_us(model: mujoco.MjModel, steps: int = 2000, repeats: int = 3) -> float:
+    """Best wall microseconds of one bare ``mj_step`` of ``model`` (the robot at rest)."""
+    data = mujoco.MjData(model)
+    mujoco.mj_step(model, data, 100)
+    best = float("inf")
+    for _ in range(repeats):
+        began = time.perf_counter()
+        mujoco.mj_step(model, data, steps)
+        best = min(best, (time.perf_counter() - began) / steps)
+    return best * 1e6
+
+
 def heightfield_figures(world: World, poses: list[Pose2D], scans: int = 20) -> dict[str, float]:
     """Build time and scan time with the solid cells as one height field instead of boxes."""
     grid, solid = world.grid, world.map_solid()
@@ -186,6 +198,8 @@ def main() -> None:
         poses = free_poses(world, 10)
         cafe = load_world("cafe")
         cafe_poses = free_poses(cafe, 10)
+        cafe_sim, _ = build_turtlebot3_sim(cafe, cafe.spawn)
+        map_step, cafe_step = step_us(model), step_us(cafe_sim.model)
         map_scan = min(scan_seconds(world, poses) for _ in range(args.repeats))
         cafe_scan = min(scan_seconds(cafe, cafe_poses) for _ in range(args.repeats))
         report: dict[str, Any] = {
@@ -196,6 +210,10 @@ def main() -> None:
             "scan_map_us": map_scan * 1e6,
             "scan_cafe_us": cafe_scan * 1e6,
             "scan_ratio": map_scan / cafe_scan,
+            "sensors": int(model.nsensor),
+            "step_map_us": map_step,
+            "step_cafe_us": cafe_step,
+            "step_ratio": map_step / cafe_step,
             "navigation": navigation_rtf(world, Pose2D(x=1.0, y=3.0), Pose2D(x=9.0, y=7.5)),
             "heightfield": heightfield_figures(world, poses),
         }

@@ -427,6 +427,22 @@ def map_figures() -> list[Figure]:
             command,
         ),
         Figure("map: lidar scan / the cafe's", report["scan_ratio"], "ratio", 2.0, False, command),
+        Figure(
+            f"map: mj_step / the cafe's ({report['sensors']} sensors)",
+            report["step_ratio"],
+            "ratio",
+            4.0,
+            False,
+            command,
+        ),
+        Figure(
+            "map: real-time factor of a 9 m NavigateToPose, set-up included",
+            report["navigation"]["rtf"],
+            "x",
+            20.0,
+            True,
+            command,
+        ),
     ]
 
 
