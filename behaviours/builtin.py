@@ -15,6 +15,7 @@ from baobab.behaviours import (
     control_nodes,
     navigation_nodes,
     progress_nodes,
+    ros_nodes,
 )
 from baobab.behaviours.registry import Registry
 
@@ -24,6 +25,7 @@ NODE_MODULES: tuple[ModuleType, ...] = (
     navigation_nodes,
     progress_nodes,
     arm_nodes,
+    ros_nodes,
 )
 """The modules whose ``NODE_TYPES`` make the built-in vocabulary, in registration order."""
 

@@ -12,9 +12,10 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Protocol
 
-from baobab.robots.catalog import ARM, BASE_CONTROLLERS, NAVIGATION, TELEOP
+from baobab.robots.catalog import ARM, BASE_CONTROLLERS, NAVIGATION, ROS_NODES, TELEOP
 from baobab.sim.errors import BaobabError
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D
@@ -24,6 +25,7 @@ __all__ = [
     "BASE_CONTROLLERS",
     "NAVIGATION",
     "PORT_CAPABILITIES",
+    "ROS_NODES",
     "TELEOP",
     "ArmPort",
     "BaseControllerPort",
@@ -31,9 +33,10 @@ __all__ = [
     "CapabilityError",
     "Clock",
     "NavigationPort",
+    "RosNodesPort",
 ]
 
-PORT_CAPABILITIES = (NAVIGATION, BASE_CONTROLLERS, ARM)
+PORT_CAPABILITIES = (NAVIGATION, BASE_CONTROLLERS, ARM, ROS_NODES)
 """Capabilities that behaviour-tree leaves use through a port (teleop is driven by events)."""
 
 
@@ -129,6 +132,15 @@ Clock = Callable[[], float]
 """Returns the simulation time in seconds."""
 
 
+class RosNodesPort(Protocol):
+    """rclpy node files run on the mission's simulation, its robot on ROS topics."""
+
+    def start_node(self, path: Path, argv: list[str]) -> TaskHandle:
+        """Run the node file at ``path`` with ``argv`` (its ``--ros-args``) until it ends or
+        the task is canceled; the task fails when the node code raises."""
+        ...
+
+
 @dataclass
 class Capabilities:
     """What a compiled tree may use: the sim clock and one port per capability server.
@@ -140,6 +152,7 @@ class Capabilities:
     navigation: NavigationPort | None = None
     base_controllers: BaseControllerPort | None = None
     arm: ArmPort | None = None
+    ros_nodes: RosNodesPort | None = None
 
     def provides(self, capability: str) -> bool:
         """True when the port for ``capability`` (e.g. ``"navigation"``) is present."""
@@ -164,3 +177,9 @@ class Capabilities:
         if self.arm is None:
             raise CapabilityError("this run provides no 'arm' capability")
         return self.arm
+
+    def ros_nodes_port(self) -> RosNodesPort:
+        """The ROS nodes port, or :class:`CapabilityError` when the run has none."""
+        if self.ros_nodes is None:
+            raise CapabilityError("this run provides no 'ros_nodes' capability")
+        return self.ros_nodes

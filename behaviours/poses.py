@@ -14,6 +14,7 @@ import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Annotated, Any
 
 from pydantic import (
@@ -194,6 +195,8 @@ class MissionScope:
     robot: RobotInfo
     world: World | None
     locations: Mapping[str, Pose]
+    folder: Path | None = None
+    """The mission file's folder, which files the mission names are relative to."""
 
     @staticmethod
     def of(info: ValidationInfo) -> MissionScope:

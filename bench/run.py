@@ -446,6 +446,47 @@ def map_figures() -> list[Figure]:
     ]
 
 
+def ros_figures() -> list[Figure]:
+    """Issue 25: node code against the simulation (``baobab ros run``), loop real-time factor."""
+    report = _script_report("bench_ros.py", quiet=True)
+    command = "python bench/bench_ros.py"
+    return [
+        Figure(
+            "ros run: node-driven go-to-goal, walls world (loop RTF)",
+            report["go_to_goal"]["rtf_loop"],
+            "x",
+            50.0,
+            True,
+            command,
+        ),
+        Figure(
+            "ros run: Panda trajectory planner at 100 Hz (loop RTF)",
+            report["panda_planner"]["rtf_loop"],
+            "x",
+            5.0,  # no issue target: the 1 kHz arm and the node's own scipy slerp; say if it drops
+            True,
+            command,
+        ),
+    ]
+
+
+def script_sleep_figures() -> list[Figure]:
+    """Issue 24: a Nav2 script sleeping 0.2 s per poll, against the same script without."""
+    report = _script_report("bench_script_sleeps.py", quiet=True)
+    sim = report["sleep_0.2"]["sim_s"]
+    return [
+        Figure(
+            f"nav2 script sleeping 0.2 s per poll over a {sim:.0f} s navigation, wall time / "
+            "without sleeps",
+            report["ratio"],
+            "ratio",
+            1.5,
+            False,
+            "python bench/bench_script_sleeps.py",
+        )
+    ]
+
+
 def test_suite_figures() -> list[Figure]:
     """Figure 7: wall time of the whole test suite with two workers."""
     began = time.perf_counter()
@@ -466,6 +507,8 @@ SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "arm": arm_figures,
     "memory": memory_figures,
     "maps": map_figures,
+    "ros": ros_figures,
+    "scripts": script_sleep_figures,
 }
 OPTIONAL_SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "longrun": longrun_figures,

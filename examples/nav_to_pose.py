@@ -33,18 +33,20 @@ def main():
     goal_pose.pose.orientation.z = 0.0
     goal_pose.pose.orientation.w = 1.0
 
-    navigator.goToPose(goal_pose)
+    task = navigator.goToPose(goal_pose)
     preempted = False
 
     i = 0
-    while not navigator.isTaskComplete():
+    while not navigator.isTaskComplete(task=task):
         i = i + 1
-        feedback = navigator.getFeedback()
+        feedback = navigator.getFeedback(task=task)
         if feedback and i % 10 == 0:
             eta = Duration.from_msg(feedback.estimated_time_remaining).nanoseconds / 1e9
             print(
                 f"Distance remaining: {feedback.distance_remaining:.2f} m, "
-                f"estimated time of arrival: {eta:.0f} s."
+                f"estimated time of arrival: {eta:.0f} s, "
+                f"off the path: {feedback.position_tracking_error:+.2f} m, "
+                f"heading error: {feedback.heading_tracking_error:+.2f} rad."
             )
 
             # A navigation timeout, to show cancellation.
@@ -59,7 +61,7 @@ def main():
                 goal_pose.pose.position.x = -1.0
                 goal_pose.pose.orientation.z = 1.0
                 goal_pose.pose.orientation.w = 0.0
-                navigator.goToPose(goal_pose)
+                task = navigator.goToPose(goal_pose)
                 preempted = True
                 print("Goal changed to x = -1.0.")
 

@@ -139,6 +139,8 @@ class Behavior(ABC):
         self.period = 1.0 / context.params.cycle_frequency
         self.time_allowance = time_allowance
         self.feedback: dict[str, Any] = {}
+        self.collision_checks = True
+        """False skips the projected-motion collision check (``disable_collision_checks``)."""
         self._started = False
         self._start_time = 0.0
 
@@ -180,8 +182,9 @@ class Behavior(ABC):
         return TaskOutcome(TaskStatus.SUCCEEDED)
 
     def _projection_collides(self, poses: np.ndarray) -> bool:
-        """True when any projected pose (rows x, y, yaw) collides on the local costmap."""
-        if len(poses) == 0:
+        """True when any projected pose (rows x, y, yaw) collides on the local costmap
+        (never with :attr:`collision_checks` off)."""
+        if len(poses) == 0 or not self.collision_checks:
             return False
         return bool(collision_mask(self.context.local_costmap(), poses[:, 0], poses[:, 1]).any())
 

@@ -11,6 +11,7 @@ paths that pass near their own end).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -19,10 +20,12 @@ from baobab.nav.checkers import SimpleGoalChecker, SimpleProgressChecker
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_filters import SpeedLimit
 from baobab.nav.errors import FollowPathError, NavigationError
+from baobab.nav.feedback import path_tracking
 from baobab.nav.interfaces import MobileBase
 from baobab.nav.path import Path
 from baobab.nav.pure_pursuit import RegulatedPurePursuit, RegulatedPurePursuitParams
 from baobab.sim.tasks import TaskOutcome, TaskStatus
+from baobab.sim.world import Pose2D
 
 
 @dataclass(frozen=True)
@@ -138,6 +141,7 @@ class PathFollower:
         remaining = self.remaining_length()
         self.feedback["distance_to_goal"] = remaining
         self.feedback["speed"] = velocity[0]
+        self.feedback["tracking_feedback"] = self._tracking(path, pose, velocity[0], remaining)
         if remaining <= p.path_length_tolerance and self.goal_checker.is_goal_reached(
             pose, path.goal, velocity
         ):
@@ -148,6 +152,21 @@ class PathFollower:
     def halt(self) -> None:
         """Stop the robot (cancel or halted tree)."""
         self.base.stop()
+
+    def _tracking(self, path: Path, pose: Pose2D, speed: float, remaining: float) -> dict[str, Any]:
+        """Nav2's ``TrackingFeedback`` fields (m, rad, m/s) of this cycle (a nested dict, so
+        that the run's trace, which keeps the scalar feedback fields, is unchanged)."""
+        tracking = path_tracking(path, self.controller.closest_index, pose.x, pose.y, pose.yaw)
+        goal = path.goal
+        return {
+            "position_tracking_error": tracking.position_error,
+            "heading_tracking_error": tracking.heading_error,
+            "current_path_index": tracking.index,
+            "robot_pose": pose,
+            "distance_to_goal": math.hypot(goal.x - pose.x, goal.y - pose.y),
+            "speed": speed,
+            "remaining_path_length": remaining,
+        }
 
 
 class FollowPathTask:

@@ -2,8 +2,11 @@
 
 Each Nav2 action has its own range of codes (reference/nav2.md §2): controller 1xx, planner 2xx,
 through-poses planner 3xx, smoother 5xx, waypoint follower 6xx, behaviours 7xx, navigators
-9000/9100. ``NONE = 0`` means success everywhere. When several actions failed during one
-navigation, Nav2 reports the numerically lowest non-zero code (:func:`reported_error_code`).
+9000/9100 (the route server's 4xx and the docking and following servers' 9xx are in
+:mod:`baobab.nav.future_server_errors` until those servers run). ``NONE = 0`` means success
+everywhere.
+When several actions failed during one navigation, Nav2 reports the numerically lowest non-zero
+code (:func:`reported_error_code`).
 """
 
 from __future__ import annotations
@@ -170,6 +173,19 @@ class NavigationError(BaobabError):
         return self.code.name if isinstance(self.code, IntEnum) else str(int(self.code))
 
 
+class GoalRejectedError(BaobabError):
+    """A goal refused before any server works on it (the navigator's send returns None).
+
+    Attributes:
+        code: the action's error code for it; None means the action's UNKNOWN, which is what
+            Nav2's client reports for a rejected goal.
+    """
+
+    def __init__(self, message: str, code: IntEnum | None = None) -> None:
+        super().__init__(message)
+        self.code = code
+
+
 class CollisionAheadError(NavigationError):
     """The controller's projected motion up to the carrot runs into lethal space.
 
@@ -189,3 +205,8 @@ def reported_error_code(codes: Iterable[int]) -> int:
     """
     failures = [int(code) for code in codes if int(code) != 0]
     return min(failures) if failures else 0
+
+
+class UnsupportedRosFeatureError(BaobabError):
+    """A script used a part of ROS that baobab does not model (services, actions), or waited
+    on sim time where nothing advances it."""

@@ -1,19 +1,22 @@
-"""Navigator feedback: distance remaining along the path, smoothed speed, time remaining.
+"""Navigator feedback: distance remaining, smoothed speed, time remaining, tracking errors.
 
 Nav2's BT navigators fill NavigateToPose / NavigateThroughPoses feedback on every loop
 (reference/nav2.md §2.2): ``distance_remaining`` is the length of the current global path from
 the pose closest to the robot (searched within a window ahead of the last closest pose), and
 ``estimated_time_remaining`` is that distance over the odometry speed averaged over
-``filter_duration``, or 0 when the robot barely moves or is almost there.
+``filter_duration``, or 0 when the robot barely moves or is almost there. The controller's
+``TrackingFeedback`` (:func:`path_tracking`) says how far the robot is off its path.
 """
 
 from __future__ import annotations
 
+import math
 from collections import deque
+from dataclasses import dataclass
 
 import numpy as np
 
-from baobab.nav.path import Path
+from baobab.nav.path import Path, wrap_angle
 
 
 class PathProgress:
@@ -72,3 +75,55 @@ def estimated_time_remaining(distance: float, speed: float) -> float:
     if abs(speed) > 0.01 and distance > 0.1:
         return distance / abs(speed)
     return 0.0
+
+
+@dataclass(frozen=True)
+class PathTracking:
+    """How the robot sits against the path segment nearest to it.
+
+    Attributes:
+        position_error: signed distance (m) from the segment's line; positive with the robot
+            to the left of the path.
+        heading_error: the path's direction minus the robot's heading (rad, wrapped);
+            positive with the robot rotated right (clockwise) of the path.
+        index: the index of the segment's first pose.
+    """
+
+    position_error: float
+    heading_error: float
+    index: int
+
+
+def path_tracking(path: Path, closest: int, x: float, y: float, yaw: float) -> PathTracking:
+    """Nav2's tracking errors of the robot at ``(x, y, yaw)`` (m, rad) against ``path``.
+
+    Of the segments before and after pose ``closest`` (the pose nearest to the robot), the one
+    nearer to the robot is used; a one-pose path counts as a segment along that pose's yaw.
+    """
+    poses = path.poses
+    count = len(poses)
+    if count == 0:
+        return PathTracking(0.0, 0.0, 0)
+    closest = min(max(closest, 0), count - 1)
+    candidates = [i for i in (closest - 1, closest) if i >= 0 and i + 1 < count]
+    best: tuple[float, float, int] | None = None
+    for start in candidates:
+        ax, ay = float(poses[start, 0]), float(poses[start, 1])
+        dx, dy = float(poses[start + 1, 0]) - ax, float(poses[start + 1, 1]) - ay
+        length = math.hypot(dx, dy)
+        if length < 1e-9:
+            continue
+        along = min(max(((x - ax) * dx + (y - ay) * dy) / length, 0.0), length)
+        gap = math.hypot(x - (ax + dx * along / length), y - (ay + dy * along / length))
+        if best is None or gap < best[0]:
+            cross = (dx * (y - ay) - dy * (x - ax)) / length
+            best = (gap, cross, start)
+    if best is None:
+        ax, ay, heading = (float(value) for value in poses[closest])
+        cross = math.cos(heading) * (y - ay) - math.sin(heading) * (x - ax)
+        return PathTracking(cross, wrap_angle(heading - yaw), closest)
+    _, cross, start = best
+    heading = math.atan2(
+        float(poses[start + 1, 1] - poses[start, 1]), float(poses[start + 1, 0] - poses[start, 0])
+    )
+    return PathTracking(cross, wrap_angle(heading - yaw), start)

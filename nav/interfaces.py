@@ -13,7 +13,7 @@ from collections.abc import Callable
 from typing import Any, Protocol
 
 from baobab.sim.lidar import LaserScan
-from baobab.sim.tasks import TaskOutcome
+from baobab.sim.tasks import TaskHandle, TaskOutcome
 from baobab.sim.world import Pose2D
 
 ScanCallback = Callable[[LaserScan], None]
@@ -66,4 +66,28 @@ class ServerTask(Protocol):
 
     def halt(self) -> None:
         """Stop at once (cancel or preemption); the robot is left commanded to stop."""
+        ...
+
+
+FEEDBACK_KEY = "feedback"
+"""Where an :class:`ActionServer`'s handle keeps the action's latest Feedback message."""
+FEEDBACK_QUEUE_KEY = "queue"
+"""Where it keeps every Feedback message in order, for actions whose feedback queues (routes)."""
+RESULT_KEY = "result"
+"""Where it puts the action's Result message when the goal ends."""
+
+
+class ActionServer(Protocol):
+    """A server for one Nav2 action the navigation server does not run itself.
+
+    Docking, object following, routes and GPS waypoints plug in here: register one under its
+    action name in ``NavigationServer.action_servers`` (``"dock_robot"``, ``"undock_robot"``,
+    ``"follow_object"``, ``"compute_route"``, ``"compute_and_track_route"``,
+    ``"follow_gps_waypoints"``) and the navigator's methods send it the action's Goal message
+    (``nav2_msgs.action.DockRobot.Goal`` ...). The returned handle's ``feedback`` dict holds
+    messages under :data:`FEEDBACK_KEY`, :data:`FEEDBACK_QUEUE_KEY` and :data:`RESULT_KEY`.
+    """
+
+    def send_goal(self, goal: Any) -> TaskHandle:
+        """Start working on ``goal``; raise ``GoalRejectedError`` to reject it."""
         ...

@@ -246,6 +246,30 @@ class LayeredCostmap:
         self.obstacle_layer.reset()
         self._changed, self._stale = [], [(0, 0, self._master.size_x, self._master.size_y)]
 
+    def clear_region(self, x: float, y: float, reset_distance: float, *, inside: bool) -> None:
+        """Clear the obstacle layer in (or outside) a square, as Nav2's clearing services do.
+
+        The square has side ``reset_distance`` (m) and is centred on map point ``(x, y)``: its
+        corners fall in cells ``start`` and ``end`` (Nav2's ``worldToMapNoBounds``, which
+        truncates towards zero), and the cells strictly between them along both axes are
+        inside. ``inside`` clears those (``clear_around_*``); otherwise every other cell is
+        cleared (``clear_except_*``). The static layer stays.
+        """
+        grid = self.obstacle_layer.grid
+        res = grid.resolution
+        start_x, start_y = x - reset_distance / 2, y - reset_distance / 2
+        first_x = int((start_x - grid.origin_x) / res)
+        first_y = int((start_y - grid.origin_y) / res)
+        last_x = int((start_x + reset_distance - grid.origin_x) / res)
+        last_y = int((start_y + reset_distance - grid.origin_y) / res)
+        columns = np.arange(grid.size_x)
+        rows = np.arange(grid.size_y)
+        in_x = (columns > first_x) & (columns < last_x)
+        in_y = (rows > first_y) & (rows < last_y)
+        square = in_y[:, None] & in_x[None, :]
+        grid.data[square if inside else ~square] = FREE_SPACE
+        self._changed, self._stale = [], [(0, 0, self._master.size_x, self._master.size_y)]
+
     def _shift_master(self, dix: int, diy: int) -> None:
         """Move the master by whole cells, keeping what stays valid, before the obstacles move.
 

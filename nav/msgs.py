@@ -2,7 +2,9 @@
 
 Messages are mutable and built field by field as in rclpy
 (``goal.pose.position.x = 1.0``); constructors take keyword arguments only, and a misspelt
-field raises ``AttributeError`` (slots), as generated ROS messages do. A fresh
+field raises ``AttributeError`` (slots), as generated ROS messages do, and a value of the wrong
+type raises ``AssertionError`` as theirs do (``point.x = 1`` needs ``1.0``;
+:mod:`baobab.nav.rosmsg`). A fresh
 :class:`Quaternion` is the identity (``w = 1.0``); a fresh :class:`Header` has a zero stamp and
 an empty ``frame_id``. Quaternions are ``x, y, z, w``.
 
@@ -19,10 +21,11 @@ from __future__ import annotations
 
 import math
 from array import array
-from dataclasses import dataclass, field
 
+import numpy as np
 from scipy.spatial.transform import Rotation
 
+from baobab.nav.rosmsg import Message
 from baobab.nav.rostime import ClockType, Duration, DurationMsg, Time, TimeMsg
 from baobab.sim.errors import BaobabError
 from baobab.sim.world import Pose2D
@@ -65,163 +68,217 @@ class MessageValueError(BaobabError, ValueError):
 # --- std_msgs -------------------------------------------------------------------------------
 
 
-@dataclass(slots=True, kw_only=True)
-class Header:
+class Header(Message):
     """``std_msgs/Header``: when (``stamp``) and in which frame (``frame_id``) data holds."""
 
-    stamp: TimeMsg = field(default_factory=TimeMsg)
-    frame_id: str = ""
+    _type_name = "std_msgs/msg/Header"
+    _fields_and_field_types = {"stamp": "builtin_interfaces/Time", "frame_id": "string"}
+    stamp: TimeMsg
+    frame_id: str
 
 
 # --- geometry_msgs --------------------------------------------------------------------------
 
 
-@dataclass(slots=True, kw_only=True)
-class Point:
+class Point(Message):
     """``geometry_msgs/Point`` (m)."""
 
-    x: float = 0.0
-    y: float = 0.0
-    z: float = 0.0
+    _type_name = "geometry_msgs/msg/Point"
+    _fields_and_field_types = {"x": "double", "y": "double", "z": "double"}
+    x: float
+    y: float
+    z: float
 
 
-@dataclass(slots=True, kw_only=True)
-class Vector3:
+class Vector3(Message):
     """``geometry_msgs/Vector3`` (units of the field that holds it)."""
 
-    x: float = 0.0
-    y: float = 0.0
-    z: float = 0.0
+    _type_name = "geometry_msgs/msg/Vector3"
+    _fields_and_field_types = {"x": "double", "y": "double", "z": "double"}
+    x: float
+    y: float
+    z: float
 
 
-@dataclass(slots=True, kw_only=True)
-class Quaternion:
+class Quaternion(Message):
     """``geometry_msgs/Quaternion``, ``x, y, z, w``; the default is the identity."""
 
-    x: float = 0.0
-    y: float = 0.0
-    z: float = 0.0
-    w: float = 1.0
+    _type_name = "geometry_msgs/msg/Quaternion"
+    _fields_and_field_types = {"x": "double", "y": "double", "z": "double", "w": "double"}
+    _defaults = {"w": 1.0}
+    x: float
+    y: float
+    z: float
+    w: float
 
 
-@dataclass(slots=True, kw_only=True)
-class Pose:
+class Pose(Message):
     """``geometry_msgs/Pose``: a position (m) and an orientation."""
 
-    position: Point = field(default_factory=Point)
-    orientation: Quaternion = field(default_factory=Quaternion)
+    _type_name = "geometry_msgs/msg/Pose"
+    _fields_and_field_types = {
+        "position": "geometry_msgs/Point",
+        "orientation": "geometry_msgs/Quaternion",
+    }
+    position: Point
+    orientation: Quaternion
 
 
-@dataclass(slots=True, kw_only=True)
-class PoseStamped:
+class PoseStamped(Message):
     """``geometry_msgs/PoseStamped``: a pose in ``header.frame_id`` at ``header.stamp``."""
 
-    header: Header = field(default_factory=Header)
-    pose: Pose = field(default_factory=Pose)
+    _type_name = "geometry_msgs/msg/PoseStamped"
+    _fields_and_field_types = {"header": "std_msgs/Header", "pose": "geometry_msgs/Pose"}
+    header: Header
+    pose: Pose
 
 
-@dataclass(slots=True, kw_only=True)
-class PoseWithCovariance:
+class PoseWithCovariance(Message):
     """``geometry_msgs/PoseWithCovariance``: a pose and its row-major 6x6 covariance."""
 
-    pose: Pose = field(default_factory=Pose)
-    covariance: list[float] = field(default_factory=lambda: [0.0] * 36)
+    _type_name = "geometry_msgs/msg/PoseWithCovariance"
+    _fields_and_field_types = {"pose": "geometry_msgs/Pose", "covariance": "double[36]"}
+    pose: Pose
+    covariance: np.ndarray
 
 
-@dataclass(slots=True, kw_only=True)
-class PoseWithCovarianceStamped:
+class PoseWithCovarianceStamped(Message):
     """``geometry_msgs/PoseWithCovarianceStamped`` (what Nav2's ``initialpose`` carries)."""
 
-    header: Header = field(default_factory=Header)
-    pose: PoseWithCovariance = field(default_factory=PoseWithCovariance)
+    _type_name = "geometry_msgs/msg/PoseWithCovarianceStamped"
+    _fields_and_field_types = {
+        "header": "std_msgs/Header",
+        "pose": "geometry_msgs/PoseWithCovariance",
+    }
+    header: Header
+    pose: PoseWithCovariance
 
 
-@dataclass(slots=True, kw_only=True)
-class Twist:
+class Twist(Message):
     """``geometry_msgs/Twist``: linear (m/s) and angular (rad/s) velocity."""
 
-    linear: Vector3 = field(default_factory=Vector3)
-    angular: Vector3 = field(default_factory=Vector3)
+    _type_name = "geometry_msgs/msg/Twist"
+    _fields_and_field_types = {
+        "linear": "geometry_msgs/Vector3",
+        "angular": "geometry_msgs/Vector3",
+    }
+    linear: Vector3
+    angular: Vector3
 
 
-@dataclass(slots=True, kw_only=True)
-class TwistStamped:
+class TwistStamped(Message):
     """``geometry_msgs/TwistStamped``."""
 
-    header: Header = field(default_factory=Header)
-    twist: Twist = field(default_factory=Twist)
+    _type_name = "geometry_msgs/msg/TwistStamped"
+    _fields_and_field_types = {"header": "std_msgs/Header", "twist": "geometry_msgs/Twist"}
+    header: Header
+    twist: Twist
 
 
 # --- nav_msgs -------------------------------------------------------------------------------
 
 
-@dataclass(slots=True, kw_only=True)
-class Path:
+class Path(Message):
     """``nav_msgs/Path``: poses a robot should follow, in order."""
 
-    header: Header = field(default_factory=Header)
-    poses: list[PoseStamped] = field(default_factory=list)
+    _type_name = "nav_msgs/msg/Path"
+    _fields_and_field_types = {
+        "header": "std_msgs/Header",
+        "poses": "sequence<geometry_msgs/PoseStamped>",
+    }
+    header: Header
+    poses: list[PoseStamped]
 
 
-@dataclass(slots=True, kw_only=True)
-class Goals:
+class Goals(Message):
     """``nav_msgs/Goals``: the goal list Rolling's ``goThroughPoses`` takes."""
 
-    header: Header = field(default_factory=Header)
-    goals: list[PoseStamped] = field(default_factory=list)
+    _type_name = "nav_msgs/msg/Goals"
+    _fields_and_field_types = {
+        "header": "std_msgs/Header",
+        "goals": "sequence<geometry_msgs/PoseStamped>",
+    }
+    header: Header
+    goals: list[PoseStamped]
 
 
-@dataclass(slots=True, kw_only=True)
-class MapMetaData:
+class MapMetaData(Message):
     """``nav_msgs/MapMetaData``: grid size (cells), cell size (m) and the pose of cell (0, 0)."""
 
-    map_load_time: TimeMsg = field(default_factory=TimeMsg)
-    resolution: float = 0.0
-    width: int = 0
-    height: int = 0
-    origin: Pose = field(default_factory=Pose)
+    _type_name = "nav_msgs/msg/MapMetaData"
+    _fields_and_field_types = {
+        "map_load_time": "builtin_interfaces/Time",
+        "resolution": "float",
+        "width": "uint32",
+        "height": "uint32",
+        "origin": "geometry_msgs/Pose",
+    }
+    map_load_time: TimeMsg
+    resolution: float
+    width: int
+    height: int
+    origin: Pose
 
 
-@dataclass(slots=True, kw_only=True)
-class OccupancyGrid:
+class OccupancyGrid(Message):
     """``nav_msgs/OccupancyGrid``: row-major int8 occupancy, 0..100 or -1 for unknown.
 
     ``data[i + width * j]`` is cell column ``i``, row ``j``; ``numpy.frombuffer(grid.data,
     dtype=numpy.int8)`` views it without a copy.
     """
 
-    header: Header = field(default_factory=Header)
-    info: MapMetaData = field(default_factory=MapMetaData)
-    data: array[int] = field(default_factory=lambda: array("b"))
+    _type_name = "nav_msgs/msg/OccupancyGrid"
+    _fields_and_field_types = {
+        "header": "std_msgs/Header",
+        "info": "nav_msgs/MapMetaData",
+        "data": "sequence<int8>",
+    }
+    header: Header
+    info: MapMetaData
+    data: array[int]
 
 
 # --- nav2_msgs ------------------------------------------------------------------------------
 
 
-@dataclass(slots=True, kw_only=True)
-class CostmapMetaData:
+class CostmapMetaData(Message):
     """``nav2_msgs/CostmapMetaData``: grid size (cells), cell size (m), origin, layer name."""
 
-    map_load_time: TimeMsg = field(default_factory=TimeMsg)
-    update_time: TimeMsg = field(default_factory=TimeMsg)
-    layer: str = ""
-    resolution: float = 0.0
-    size_x: int = 0
-    size_y: int = 0
-    origin: Pose = field(default_factory=Pose)
+    _type_name = "nav2_msgs/msg/CostmapMetaData"
+    _fields_and_field_types = {
+        "map_load_time": "builtin_interfaces/Time",
+        "update_time": "builtin_interfaces/Time",
+        "layer": "string",
+        "resolution": "float",
+        "size_x": "uint32",
+        "size_y": "uint32",
+        "origin": "geometry_msgs/Pose",
+    }
+    map_load_time: TimeMsg
+    update_time: TimeMsg
+    layer: str
+    resolution: float
+    size_x: int
+    size_y: int
+    origin: Pose
 
 
-@dataclass(slots=True, kw_only=True)
-class Costmap:
+class Costmap(Message):
     """``nav2_msgs/Costmap``: row-major uint8 costs.
 
     0 is free, 253 inscribed, 254 lethal, 255 unknown; ``data[i + size_x * j]`` is cell
     column ``i``, row ``j``.
     """
 
-    header: Header = field(default_factory=Header)
-    metadata: CostmapMetaData = field(default_factory=CostmapMetaData)
-    data: array[int] = field(default_factory=lambda: array("B"))
+    _type_name = "nav2_msgs/msg/Costmap"
+    _fields_and_field_types = {
+        "header": "std_msgs/Header",
+        "metadata": "nav2_msgs/CostmapMetaData",
+        "data": "sequence<uint8>",
+    }
+    header: Header
+    metadata: CostmapMetaData
+    data: array[int]
 
 
 # --- conversions ----------------------------------------------------------------------------

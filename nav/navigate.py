@@ -70,6 +70,7 @@ from baobab.nav.bt_nodes import (
 from baobab.nav.controller_server import PathFollower
 from baobab.nav.errors import NavigateThroughPosesError, NavigateToPoseError
 from baobab.nav.feedback import PathProgress, SpeedFilter, estimated_time_remaining
+from baobab.nav.waypoints import WaypointStatus
 from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D
 
@@ -260,11 +261,15 @@ class NavigateTask:
         self._progress = PathProgress(params.distance_search_window)
         self._speed = SpeedFilter(params.speed_filter_duration)
         self._start_time: float | None = None
+        self._poses = list(goals)
+        self._passed = -1
 
     def preempt(self, goals: Sequence[Pose2D]) -> None:
         """Take a new goal in place: the tree keeps running, time and recoveries restart."""
         context = self.context
         context.goals = list(goals)
+        self._poses = list(goals)
+        self._passed = -1
         context.goal_revision += 1
         context.number_of_recoveries = 0
         context.plans = 0
@@ -276,6 +281,12 @@ class NavigateTask:
             self._start_time = now
         self.root.tick_once()
         self._update_feedback(now)
+        outcome = self._outcome()
+        if outcome is not None:
+            self._update_statuses(outcome)
+        return outcome
+
+    def _outcome(self) -> TaskOutcome | None:
         status = self.root.status
         if status is Status.SUCCESS:
             return TaskOutcome(TaskStatus.SUCCEEDED)
@@ -290,9 +301,38 @@ class NavigateTask:
         return None
 
     def halt(self) -> None:
-        """Halt the tree (its running leaves stop the robot)."""
+        """Halt the tree (its running leaves stop the robot); the poses not passed failed."""
         if self.root.status is Status.RUNNING:
             self.root.stop(Status.INVALID)
+        self._update_statuses(TaskOutcome(TaskStatus.CANCELED))
+
+    def _update_statuses(self, final: TaskOutcome | None = None) -> None:
+        """NavigateThroughPoses' ``waypoint_statuses``: the poses the robot passed (pruned
+        from the goal list) are COMPLETED, the others PENDING until the end, then COMPLETED
+        on success or FAILED, with the navigation's error, otherwise."""
+        if not self.through_poses:
+            return
+        passed = len(self._poses) - len(self.context.goals)
+        if final is None and passed == self._passed:
+            return
+        self._passed = passed
+        rest, code, message = WaypointStatus.PENDING, 0, ""
+        if final is not None:
+            succeeded = final.status is TaskStatus.SUCCEEDED
+            rest = WaypointStatus.COMPLETED if succeeded else WaypointStatus.FAILED
+            code, message = final.error_code, final.error_msg
+        self.feedback["waypoint_statuses"] = [
+            {"status": WaypointStatus.COMPLETED, "index": index, "pose": pose}
+            if index < passed
+            else {
+                "status": rest,
+                "index": index,
+                "pose": pose,
+                "error_code": code if rest == WaypointStatus.FAILED else 0,
+                "error_msg": message if rest == WaypointStatus.FAILED else "",
+            }
+            for index, pose in enumerate(self._poses)
+        ]
 
     def _update_feedback(self, now: float) -> None:
         context = self.context
@@ -312,5 +352,9 @@ class NavigateTask:
         feedback["estimated_time_remaining"] = estimated_time_remaining(distance, speed)
         feedback["distance_remaining"] = distance
         feedback["number_of_recoveries"] = context.number_of_recoveries
+        tracking = self._follower.feedback.get("tracking_feedback")
+        if tracking is not None and path is self._follower.located_path:
+            feedback["tracking_feedback"] = dict(tracking)
         if self.through_poses:
             feedback["number_of_poses_remaining"] = len(context.goals)
+            self._update_statuses()

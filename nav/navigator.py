@@ -4,8 +4,12 @@ A Nav2 script drives a robot through ``nav2_simple_commander.robot_navigator.Bas
 send a goal, poll ``isTaskComplete()``, read ``getFeedback()``, then ``getResult()``. Here the
 same calls drive the :class:`~baobab.nav.server.NavigationServer` of a TurtleBot3 in a MuJoCo
 world that the navigator builds for itself. Method names, parameters, defaults, feedback field
-names and message types are Nav2's (reference/nav2.md §1-§2; Kilted semantics where distros
-differ), old names included (``isNavComplete``, ``cancelNav``, ``NavigationResult``).
+names and message types are those of Nav2's current release (reference/nav2.md §1-§2,
+nav2_ros_facts.md §4-§5), with every older release's names kept (``isNavComplete``,
+``cancelNav``, ``NavigationResult``, ``clearTaskError``, ``clearCostmapAroundPose``). The
+calls for servers baobab does not run yet (docking, following, routes, GPS waypoints, the
+collision monitor) exist with Nav2's signatures and fail cleanly
+(:mod:`baobab.nav.navigator_external`).
 
 Where baobab differs from Nav2, on purpose:
 
@@ -20,9 +24,10 @@ Where baobab differs from Nav2, on purpose:
   ``while not isTaskComplete()`` loop would spin forever; here it ends.
 * **Rejection.** A goal the navigator cannot pass to the server — a pose outside the ``map``
   frame, a zero quaternion, an empty pose list, a custom behaviour tree or plugin id — is
-  rejected at once: the send returns ``False`` (Humble's value; accepted sends return Kilted's
-  ``RunningTask``), ``isTaskComplete()`` is True, ``getResult()`` is FAILED and
-  ``getTaskError()`` gives the action's UNKNOWN code (or a more precise one) with the reason.
+  rejected at once: the send returns None (Rolling's value, falsy as Humble's ``False``;
+  accepted sends return the ``RunningTask``), ``goal_handle.accepted`` is False,
+  ``isTaskComplete()`` is True, ``getResult()`` is FAILED and ``getTaskError()`` gives the
+  action's UNKNOWN code (or a more precise one) with the reason.
   A rejected send also cancels the task that was running, so the robot is never left driving a
   goal the script no longer tracks. Goals the server accepts but cannot do (a goal inside a
   table, a back-up speed of the wrong sign) end FAILED with Nav2's error code instead.
@@ -32,7 +37,8 @@ Where baobab differs from Nav2, on purpose:
   leave the running task alone (Nav2 routes them through the task's shared result future).
 * **State.** ``getResult()`` is UNKNOWN while a task runs (Nav2 would return the previous
   task's status); feedback and the task error are reset by each send, as in Rolling.
-* **Localisation is perfect.** ``setInitialPose()`` teleports the simulated robot.
+* **Localisation is perfect.** ``setInitialPose()`` teleports the simulated robot;
+  ``initial_pose_received`` is always True.
 * **Waypoints.** ``followWaypoints`` runs with ``stop_on_failure`` false (nav2_bringup's
   setting): a missed waypoint is recorded and the robot goes on. The missed ones appear in the
   feedback (``missed_waypoints``) and in ``result_future.result().result.missed_waypoints``.
@@ -51,13 +57,15 @@ from baobab.nav import msgs
 from baobab.nav.errors import (
     ComputePathThroughPosesError,
     ComputePathToPoseError,
+    GoalRejectedError,
     NavigationError,
     SmoothPathError,
 )
 from baobab.nav.navigator_core import NavigationResult, TaskResult
+from baobab.nav.navigator_external import NavigatorExternal
 from baobab.nav.navigator_feedback import RunningTask
 from baobab.nav.navigator_messages import (
-    GoalRejectedError,
+    MAP_FRAME,
     costmap_message,
     goal_pose,
     goal_poses,
@@ -71,7 +79,6 @@ from baobab.nav.navigator_robot import (
     default_start,
     pose_is_free,
 )
-from baobab.nav.navigator_tasks import NavigatorTasks
 from baobab.nav.server import NavigationServer
 from baobab.sim.errors import WorldError
 from baobab.sim.viewer import RealTimePacer
@@ -90,14 +97,16 @@ class LoadMapResult(enum.IntEnum):
     RESULT_UNDEFINED_FAILURE = 255
 
 
-class BasicNavigator(NavigatorTasks):
+class BasicNavigator(NavigatorExternal):
     """Nav2's Simple Commander over a simulated robot (see the module docstring).
 
     The constructor is :class:`~baobab.nav.navigator_core.NavigatorCore`'s: ``node_name``,
     ``namespace``, and keyword-only ``world``, ``robot``, ``start``, ``seed``, ``realtime``.
     The task launchers (``goToPose``, ``spin``, ...) are in
-    :class:`~baobab.nav.navigator_tasks.NavigatorTasks`; polling a task (``isTaskComplete``,
-    ``getFeedback``, ``getResult``, ``cancelTask``) in the core.
+    :class:`~baobab.nav.navigator_tasks.NavigatorTasks` and, for the servers baobab does not
+    run yet, :class:`~baobab.nav.navigator_external.NavigatorExternal`; polling a task
+    (``isTaskComplete``, ``getFeedback``, ``getResult``, ``cancelTask``) and the task error in
+    :class:`~baobab.nav.navigator_tracking.NavigatorTracking`.
     """
 
     # -- lifecycle ----------------------------------------------------------------------------
@@ -215,6 +224,50 @@ class BasicNavigator(NavigatorTasks):
     def clearGlobalCostmap(self) -> None:
         """Clear the global costmap's obstacle layer."""
         self._live_server().clear_costmaps("global")
+
+    def clearCostmapExceptRegion(self, reset_distance: float) -> None:
+        """Clear the local costmap's obstacles outside the square of side ``reset_distance``
+        (m) centred on the robot (Jazzy+)."""
+        pose = self._rig.base.pose()
+        self._clear_region("local", pose.x, pose.y, reset_distance, inside=False)
+
+    def clearCostmapAroundRobot(self, reset_distance: float) -> None:
+        """Clear the local costmap's obstacles inside the square of side ``reset_distance``
+        (m) centred on the robot (Jazzy+)."""
+        pose = self._rig.base.pose()
+        self._clear_region("local", pose.x, pose.y, reset_distance, inside=True)
+
+    def clearLocalCostmapAroundPose(self, pose: msgs.PoseStamped, reset_distance: float) -> None:
+        """Clear the local costmap's obstacles inside the square of side ``reset_distance``
+        (m) centred on ``pose`` (Rolling)."""
+        self._clear_around_pose("local", pose, reset_distance)
+
+    def clearGlobalCostmapAroundPose(self, pose: msgs.PoseStamped, reset_distance: float) -> None:
+        """Clear the global costmap's obstacles inside the square of side ``reset_distance``
+        (m) centred on ``pose`` (Rolling)."""
+        self._clear_around_pose("global", pose, reset_distance)
+
+    def clearCostmapAroundPose(self, pose: msgs.PoseStamped, reset_distance: float) -> None:
+        """Jazzy's name of :meth:`clearLocalCostmapAroundPose`."""
+        self._clear_around_pose("local", pose, reset_distance)
+
+    def _clear_around_pose(self, which: str, pose: msgs.PoseStamped, reset_distance: float) -> None:
+        frame = pose.header.frame_id
+        if frame not in (MAP_FRAME, ""):
+            self.error(
+                "Cannot clear map around pose because pose cannot be transformed to costmap "
+                f"frame: frame '{frame}' is not '{MAP_FRAME}'"
+            )
+            return
+        position = pose.pose.position
+        self._clear_region(which, position.x, position.y, reset_distance, inside=True)
+
+    def _clear_region(
+        self, which: str, x: float, y: float, reset_distance: float, *, inside: bool
+    ) -> None:
+        self._live_server().clear_costmap_region(
+            which, float(x), float(y), float(reset_distance), inside=inside
+        )
 
     def getGlobalCostmap(self) -> msgs.Costmap:
         """The global costmap as a ``nav2_msgs/Costmap`` (map frame, 0.05 m cells)."""

@@ -2,41 +2,44 @@
 
 The server keeps each task's feedback as a dict of plain values (sim seconds, a ``Pose2D``);
 a Nav2 script reads messages: ``feedback.navigation_time`` is a ``builtin_interfaces``
-Duration, ``feedback.current_pose`` a ``PoseStamped``. The classes here carry Nav2's field
-names and types (Kilted's, reference/nav2.md §2), one per action the navigator sends:
+Duration, ``feedback.current_pose`` a ``PoseStamped``. The messages are the action types of
+:mod:`baobab.nav.ros.nav2_msgs.action` (Nav2's current fields, older ones kept). What each
+field holds here:
 
 ============================  ==============================================================
-NavigateToPose                current_pose, navigation_time, estimated_time_remaining,
-                              number_of_recoveries, distance_remaining
-NavigateThroughPoses          the same, plus number_of_poses_remaining
+NavigateToPose                pose, times, distance, recoveries; tracking errors from the
+                              controller's last cycle (0 before its first)
+NavigateThroughPoses          the same, plus poses remaining and each pose's status
 FollowWaypoints               current_waypoint (plus baobab's missed_waypoints so far)
-FollowPath                    distance_to_goal, speed
-Spin                          angular_distance_traveled
-BackUp, DriveOnHeading        distance_traveled
+FollowPath                    tracking_feedback (errors, index, pose, distances, speed), and
+                              Kilted's distance_to_goal (path length left) and speed
+Spin / BackUp, DriveOnHeading angular_distance_traveled / distance_traveled
 AssistedTeleop                current_teleop_duration
 ============================  ==============================================================
 
-Results follow ``action_msgs``: a :class:`GetResultResponse` with the goal ``status``
-(:class:`GoalStatus` codes) and the action's ``result`` (``error_code``, ``error_msg``, and
-``missed_waypoints`` for FollowWaypoints), which is what Nav2 users reach through
-``navigator.result_future.result().result``.
+Results carry ``error_code`` and ``error_msg`` and, as each action defines,
+``total_elapsed_time`` (behaviours), ``waypoint_statuses`` (NavigateThroughPoses) and
+``missed_waypoints`` (FollowWaypoints).
 """
 
 from __future__ import annotations
 
 import enum
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
 from typing import Any
 
 from baobab.nav.msgs import PoseStamped, from_pose2d
+from baobab.nav.ros.nav2_msgs import action
+from baobab.nav.ros.nav2_msgs.msg import TrackingFeedback, WaypointStatus
+from baobab.nav.rosaction import Action
+from baobab.nav.rosmsg import Message
 from baobab.nav.rostime import Duration, DurationMsg
 from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D
 
 
 class RunningTask(enum.Enum):
-    """The kind of task a navigator is running (Nav2 Kilted's ``RunningTask``)."""
+    """The kind of task a navigator is running (Nav2 Rolling's ``RunningTask``)."""
 
     NONE = 0
     NAVIGATE_TO_POSE = 1
@@ -51,6 +54,25 @@ class RunningTask(enum.Enum):
     DOCK_ROBOT = 10
     UNDOCK_ROBOT = 11
     COMPUTE_AND_TRACK_ROUTE = 12
+    FOLLOW_OBJECT = 13
+
+
+ACTIONS: dict[RunningTask, type[Action]] = {
+    RunningTask.NAVIGATE_TO_POSE: action.NavigateToPose,
+    RunningTask.NAVIGATE_THROUGH_POSES: action.NavigateThroughPoses,
+    RunningTask.FOLLOW_PATH: action.FollowPath,
+    RunningTask.FOLLOW_WAYPOINTS: action.FollowWaypoints,
+    RunningTask.FOLLOW_GPS_WAYPOINTS: action.FollowGPSWaypoints,
+    RunningTask.SPIN: action.Spin,
+    RunningTask.BACKUP: action.BackUp,
+    RunningTask.DRIVE_ON_HEADING: action.DriveOnHeading,
+    RunningTask.ASSISTED_TELEOP: action.AssistedTeleop,
+    RunningTask.DOCK_ROBOT: action.DockRobot,
+    RunningTask.UNDOCK_ROBOT: action.UndockRobot,
+    RunningTask.COMPUTE_AND_TRACK_ROUTE: action.ComputeAndTrackRoute,
+    RunningTask.FOLLOW_OBJECT: action.FollowObject,
+}
+"""The Nav2 action type behind each task."""
 
 
 class GoalStatus(enum.IntEnum):
@@ -65,133 +87,21 @@ class GoalStatus(enum.IntEnum):
     STATUS_ABORTED = 6
 
 
-def _duration(seconds: float) -> DurationMsg:
-    return Duration(seconds=seconds).to_msg()
-
-
-@dataclass(slots=True, kw_only=True)
-class NavigateToPoseFeedback:
-    """``nav2_msgs/action/NavigateToPose`` feedback."""
-
-    current_pose: PoseStamped = field(default_factory=PoseStamped)
-    navigation_time: DurationMsg = field(default_factory=DurationMsg)
-    estimated_time_remaining: DurationMsg = field(default_factory=DurationMsg)
-    number_of_recoveries: int = 0
-    distance_remaining: float = 0.0
-
-
-@dataclass(slots=True, kw_only=True)
-class NavigateThroughPosesFeedback(NavigateToPoseFeedback):
-    """``nav2_msgs/action/NavigateThroughPoses`` feedback."""
-
-    number_of_poses_remaining: int = 0
-
-
-@dataclass(slots=True, kw_only=True)
-class WaypointStatus:
-    """``nav2_msgs/WaypointStatus``: how one waypoint went."""
-
-    PENDING = 0
-    COMPLETED = 1
-    SKIPPED = 2
-    FAILED = 3
-
-    waypoint_status: int = PENDING
-    waypoint_index: int = 0
-    waypoint_pose: PoseStamped = field(default_factory=PoseStamped)
-    error_code: int = 0
-    error_msg: str = ""
-
-
-@dataclass(slots=True, kw_only=True)
-class FollowWaypointsFeedback:
-    """``nav2_msgs/action/FollowWaypoints`` feedback.
-
-    ``current_waypoint`` is Nav2's field (0-based); ``missed_waypoints`` is baobab's addition,
-    the waypoints missed so far (Nav2 reports them only in the result).
-    """
-
-    current_waypoint: int = 0
-    missed_waypoints: list[WaypointStatus] = field(default_factory=list)
-
-
-@dataclass(slots=True, kw_only=True)
-class FollowPathFeedback:
-    """``nav2_msgs/action/FollowPath`` feedback (Humble to Kilted fields)."""
-
-    distance_to_goal: float = 0.0
-    speed: float = 0.0
-
-
-@dataclass(slots=True, kw_only=True)
-class SpinFeedback:
-    """``nav2_msgs/action/Spin`` feedback: the signed turn so far (rad)."""
-
-    angular_distance_traveled: float = 0.0
-
-
-@dataclass(slots=True, kw_only=True)
-class BackUpFeedback:
-    """``nav2_msgs/action/BackUp`` feedback: the straight-line distance so far (m)."""
-
-    distance_traveled: float = 0.0
-
-
-@dataclass(slots=True, kw_only=True)
-class DriveOnHeadingFeedback:
-    """``nav2_msgs/action/DriveOnHeading`` feedback: the straight-line distance so far (m)."""
-
-    distance_traveled: float = 0.0
-
-
-@dataclass(slots=True, kw_only=True)
-class AssistedTeleopFeedback:
-    """``nav2_msgs/action/AssistedTeleop`` feedback."""
-
-    current_teleop_duration: DurationMsg = field(default_factory=DurationMsg)
-
-
-@dataclass(slots=True, kw_only=True)
-class ActionResult:
-    """A Nav2 action result: ``error_code`` (0 on success) and ``error_msg``."""
-
-    error_code: int = 0
-    error_msg: str = ""
-
-
-@dataclass(slots=True, kw_only=True)
-class FollowWaypointsResult(ActionResult):
-    """``nav2_msgs/action/FollowWaypoints`` result: the missed waypoints and the error."""
-
-    missed_waypoints: list[WaypointStatus] = field(default_factory=list)
-
-
-@dataclass(slots=True, kw_only=True)
-class GetResultResponse:
-    """What a goal's result future holds: the final ``status`` and the action ``result``."""
-
-    status: int
-    result: ActionResult
-
-
-Feedback = (
-    NavigateToPoseFeedback
-    | FollowWaypointsFeedback
-    | FollowPathFeedback
-    | SpinFeedback
-    | BackUpFeedback
-    | DriveOnHeadingFeedback
-    | AssistedTeleopFeedback
-)
-"""Any of the feedback messages above."""
+Feedback = Message
+"""Any action's feedback message."""
 
 StampedPose = Callable[[Pose2D], PoseStamped]
 """Turns a map-frame pose into a stamped message (the navigator stamps with sim time)."""
 
 
+def duration(seconds: float) -> DurationMsg:
+    """A ``builtin_interfaces/Duration`` of ``seconds`` (s)."""
+    return Duration(seconds=float(seconds)).to_msg()
+
+
 def feedback_message(
     task: RunningTask, values: Mapping[str, Any], stamped: StampedPose
-) -> Feedback | None:
+) -> Message | None:
     """The feedback message of ``task`` from the server's feedback ``values``.
 
     Returns None before the task has reported anything (Nav2's "no feedback yet").
@@ -200,40 +110,74 @@ def feedback_message(
         return None
     get = values.get
     if task in (RunningTask.NAVIGATE_TO_POSE, RunningTask.NAVIGATE_THROUGH_POSES):
-        fields: dict[str, Any] = {
-            "navigation_time": _duration(get("navigation_time", 0.0)),
-            "estimated_time_remaining": _duration(get("estimated_time_remaining", 0.0)),
-            "number_of_recoveries": int(get("number_of_recoveries", 0)),
-            "distance_remaining": float(get("distance_remaining", 0.0)),
-        }
-        pose = get("current_pose")
-        if pose is not None:
-            fields["current_pose"] = stamped(pose)
-        if task is RunningTask.NAVIGATE_TO_POSE:
-            return NavigateToPoseFeedback(**fields)
-        return NavigateThroughPosesFeedback(
-            **fields, number_of_poses_remaining=int(get("number_of_poses_remaining", 0))
-        )
+        return _navigation_feedback(task, values, stamped)
     if task is RunningTask.FOLLOW_WAYPOINTS:
-        return FollowWaypointsFeedback(
+        return action.FollowWaypoints.Feedback(
             current_waypoint=int(get("current_waypoint", 0)),
             missed_waypoints=missed_waypoints(get("missed_waypoints", ())),
         )
     if task is RunningTask.FOLLOW_PATH:
-        return FollowPathFeedback(
-            distance_to_goal=float(get("distance_to_goal", 0.0)), speed=float(get("speed", 0.0))
+        return action.FollowPath.Feedback(
+            tracking_feedback=tracking_feedback(get("tracking_feedback", {}), stamped),
+            distance_to_goal=float(get("distance_to_goal", 0.0)),
+            speed=float(get("speed", 0.0)),
         )
     if task is RunningTask.SPIN:
-        return SpinFeedback(angular_distance_traveled=float(get("angular_distance_traveled", 0.0)))
-    if task is RunningTask.BACKUP:
-        return BackUpFeedback(distance_traveled=float(get("distance_traveled", 0.0)))
-    if task is RunningTask.DRIVE_ON_HEADING:
-        return DriveOnHeadingFeedback(distance_traveled=float(get("distance_traveled", 0.0)))
+        return action.Spin.Feedback(
+            angular_distance_traveled=float(get("angular_distance_traveled", 0.0))
+        )
+    if task in (RunningTask.BACKUP, RunningTask.DRIVE_ON_HEADING):
+        kind = action.BackUp if task is RunningTask.BACKUP else action.DriveOnHeading
+        return kind.Feedback(distance_traveled=float(get("distance_traveled", 0.0)))
     if task is RunningTask.ASSISTED_TELEOP:
-        return AssistedTeleopFeedback(
-            current_teleop_duration=_duration(get("current_teleop_duration", 0.0))
+        return action.AssistedTeleop.Feedback(
+            current_teleop_duration=duration(get("current_teleop_duration", 0.0))
         )
     return None
+
+
+def _navigation_feedback(
+    task: RunningTask, values: Mapping[str, Any], stamped: StampedPose
+) -> Message:
+    get = values.get
+    tracking = get("tracking_feedback", {})
+    fields: dict[str, Any] = {
+        "navigation_time": duration(get("navigation_time", 0.0)),
+        "estimated_time_remaining": duration(get("estimated_time_remaining", 0.0)),
+        "number_of_recoveries": int(get("number_of_recoveries", 0)),
+        "distance_remaining": float(get("distance_remaining", 0.0)),
+        "position_tracking_error": float(tracking.get("position_tracking_error", 0.0)),
+        "heading_tracking_error": float(tracking.get("heading_tracking_error", 0.0)),
+    }
+    pose = get("current_pose")
+    if pose is not None:
+        fields["current_pose"] = stamped(pose)
+    if task is RunningTask.NAVIGATE_TO_POSE:
+        return action.NavigateToPose.Feedback(**fields)
+    return action.NavigateThroughPoses.Feedback(
+        **fields,
+        number_of_poses_remaining=int(get("number_of_poses_remaining", 0)),
+        waypoint_statuses=waypoint_statuses(get("waypoint_statuses", ())),
+    )
+
+
+def tracking_feedback(values: Mapping[str, Any], stamped: StampedPose) -> TrackingFeedback:
+    """``nav2_msgs/TrackingFeedback`` from the controller's ``tracking_feedback`` values
+    (all zero before the controller's first cycle)."""
+    get = values.get
+    message = TrackingFeedback(
+        position_tracking_error=float(get("position_tracking_error", 0.0)),
+        heading_tracking_error=float(get("heading_tracking_error", 0.0)),
+        current_path_index=int(get("current_path_index", 0)),
+        distance_to_goal=float(get("distance_to_goal", 0.0)),
+        speed=float(get("speed", 0.0)),
+        remaining_path_length=float(get("remaining_path_length", 0.0)),
+    )
+    pose = get("robot_pose")
+    if pose is not None:
+        message.robot_pose = stamped(pose)
+        message.header = message.robot_pose.header
+    return message
 
 
 def missed_waypoints(entries: Any) -> list[WaypointStatus]:
@@ -250,6 +194,45 @@ def missed_waypoints(entries: Any) -> list[WaypointStatus]:
     ]
 
 
+def waypoint_statuses(entries: Any) -> list[WaypointStatus]:
+    """``WaypointStatus`` messages for the server's per-pose status records."""
+    return [
+        WaypointStatus(
+            waypoint_status=int(entry["status"]),
+            waypoint_index=int(entry["index"]),
+            waypoint_pose=from_pose2d(entry["pose"]),
+            error_code=int(entry.get("error_code", 0)),
+            error_msg=str(entry.get("error_msg", "")),
+        )
+        for entry in entries
+    ]
+
+
+def result_message(
+    task: RunningTask, outcome: TaskOutcome, values: Mapping[str, Any], elapsed: float
+) -> Message:
+    """The result message of a finished ``task``: its last feedback ``values`` and the time
+    (s) from acceptance to the end, ``elapsed``, included."""
+    result: Any = ACTIONS[task].Result(
+        error_code=int(outcome.error_code), error_msg=outcome.error_msg
+    )
+    fields = result.get_fields_and_field_types()
+    if "total_elapsed_time" in fields:
+        result.total_elapsed_time = duration(elapsed)
+    if task is RunningTask.FOLLOW_WAYPOINTS:
+        result.missed_waypoints = missed_waypoints(values.get("missed_waypoints", ()))
+    elif task is RunningTask.NAVIGATE_THROUGH_POSES:
+        result.waypoint_statuses = waypoint_statuses(values.get("waypoint_statuses", ()))
+    message: Message = result
+    return message
+
+
+def unknown_code(task: RunningTask) -> int:
+    """The UNKNOWN error code of ``task``'s action (what a rejected send reports)."""
+    code: int = getattr(ACTIONS[task].Result, "UNKNOWN")  # noqa: B009 (set by result_codes)
+    return code
+
+
 def goal_status(outcome: TaskOutcome | None) -> GoalStatus:
     """The ``action_msgs`` status of a task: EXECUTING until it ends."""
     if outcome is None:
@@ -260,42 +243,3 @@ def goal_status(outcome: TaskOutcome | None) -> GoalStatus:
         TaskStatus.FAILED: GoalStatus.STATUS_ABORTED,
         TaskStatus.RUNNING: GoalStatus.STATUS_EXECUTING,
     }[outcome.status]
-
-
-class ResultFuture:
-    """The result future of one goal (``rclpy.task.Future``'s ``done()`` / ``result()``).
-
-    Args:
-        task: the kind of task.
-        outcome: reads the task's outcome, None while it runs.
-        feedback: reads the server's feedback values (for the missed waypoints).
-    """
-
-    def __init__(
-        self,
-        task: RunningTask,
-        outcome: Callable[[], TaskOutcome | None],
-        feedback: Callable[[], Mapping[str, Any]],
-    ) -> None:
-        self.task = task
-        self._outcome = outcome
-        self._feedback = feedback
-
-    def done(self) -> bool:
-        """True once the goal has ended."""
-        return self._outcome() is not None
-
-    def result(self) -> GetResultResponse | None:
-        """The final status and result message; None while the goal runs."""
-        outcome = self._outcome()
-        if outcome is None:
-            return None
-        if self.task is RunningTask.FOLLOW_WAYPOINTS:
-            result: ActionResult = FollowWaypointsResult(
-                error_code=outcome.error_code,
-                error_msg=outcome.error_msg,
-                missed_waypoints=missed_waypoints(self._feedback().get("missed_waypoints", ())),
-            )
-        else:
-            result = ActionResult(error_code=outcome.error_code, error_msg=outcome.error_msg)
-        return GetResultResponse(status=int(goal_status(outcome)), result=result)

@@ -17,8 +17,8 @@ import numpy as np
 
 from baobab.nav import msgs
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.errors import GoalRejectedError
 from baobab.nav.path import Path
-from baobab.sim.errors import BaobabError
 from baobab.sim.world import Pose2D
 
 MAP_FRAME = "map"
@@ -32,19 +32,6 @@ PLUGIN_IDS = {
     "path_handler_id": ("PathHandler",),
 }
 """The plugin ids the one configured plugin of each server answers to ('' = the default)."""
-
-
-class GoalRejectedError(BaobabError):
-    """A goal the navigator refuses before it reaches the server (the send returns False).
-
-    Attributes:
-        code: the action's error code for it; None means the action's UNKNOWN, which is what
-            Nav2's client reports for a rejected goal.
-    """
-
-    def __init__(self, message: str, code: IntEnum | None = None) -> None:
-        super().__init__(message)
-        self.code = code
 
 
 def goal_pose(pose: msgs.PoseStamped, what: str = "goal") -> Pose2D:

@@ -1,35 +1,52 @@
 """The Simple Commander calls that start a task: navigation, path following, behaviours, teleop.
 
-Each call hands a goal to the navigation server through :meth:`NavigatorCore._send`, which
-turns a goal the navigator refuses into a rejected send (``False``) and otherwise starts
-tracking the task (see :mod:`baobab.nav.navigator` for how baobab differs from Nav2).
+Each call hands a goal to the navigation server through :meth:`NavigatorTracking._send`,
+which turns a goal the navigator refuses into a rejected send (None, as Nav2 Rolling returns)
+and otherwise starts tracking the task (see :mod:`baobab.nav.navigator` for how baobab differs
+from Nav2).
 """
 
 from __future__ import annotations
 
 import enum
-from typing import Literal
 
 from baobab.nav import msgs
-from baobab.nav.errors import FollowPathError, NavigateThroughPosesError, NavigateToPoseError
-from baobab.nav.navigator_core import NavigatorCore
+from baobab.nav.errors import (
+    FollowPathError,
+    GoalRejectedError,
+    NavigateThroughPosesError,
+    NavigateToPoseError,
+)
 from baobab.nav.navigator_feedback import RunningTask
 from baobab.nav.navigator_messages import (
-    GoalRejectedError,
     goal_pose,
     goal_poses,
     known_plugin,
     path_from_message,
 )
+from baobab.nav.navigator_tracking import NavigatorTracking
+from baobab.nav.ros.std_msgs.msg import Empty
 from baobab.sim.tasks import TaskHandle
 
 
-class NavigatorTasks(NavigatorCore):
-    """The task launchers of :class:`~baobab.nav.navigator.BasicNavigator` (Nav2's names)."""
+class NavigatorTasks(NavigatorTracking):
+    """The task launchers of :class:`~baobab.nav.navigator.BasicNavigator` (Nav2's names).
 
-    def goToPose(
-        self, pose: msgs.PoseStamped, behavior_tree: str = ""
-    ) -> RunningTask | Literal[False]:
+    As Nav2's assisted teleop does, the navigator listens on ``cmd_vel_teleop`` (``Twist`` or
+    ``TwistStamped``) and ``preempt_teleop`` (``Empty``): a script's node that publishes there
+    drives :meth:`assistedTeleop` (:meth:`publishTeleop` and :meth:`preemptTeleop` do the
+    same without a publisher).
+    """
+
+    def _setup(self) -> None:
+        super()._setup()
+        for kind in (msgs.Twist, msgs.TwistStamped):
+            self.create_subscription(kind, "cmd_vel_teleop", self.publishTeleop, 10, _internal=True)
+        self.create_subscription(
+            Empty, "preempt_teleop", lambda _: self.preemptTeleop(), 10, _internal=True
+        )
+
+    def goToPose(self, pose: msgs.PoseStamped, behavior_tree: str = "") -> RunningTask | None:
         """Navigate to ``pose`` (map frame), replanning at 1 Hz with Nav2's recoveries."""
 
         def submit() -> TaskHandle:
@@ -42,7 +59,7 @@ class NavigatorTasks(NavigatorCore):
 
     def goThroughPoses(
         self, poses: list[msgs.PoseStamped] | msgs.Goals, behavior_tree: str = ""
-    ) -> RunningTask | Literal[False]:
+    ) -> RunningTask | None:
         """Navigate through ``poses`` in order without stopping (a list or ``nav_msgs/Goals``)."""
         self.info(f"Navigating with {_count(poses)} goals....")
 
@@ -59,7 +76,7 @@ class NavigatorTasks(NavigatorCore):
 
     def followWaypoints(
         self, poses: list[msgs.PoseStamped], number_of_loops: int = 0, goal_index: int = 0
-    ) -> RunningTask | Literal[False]:
+    ) -> RunningTask | None:
         """Navigate to each pose in turn; ``number_of_loops`` extra passes from ``goal_index``."""
         self.info(f"Following {_count(poses)} goals....")
         return self._send(
@@ -79,7 +96,7 @@ class NavigatorTasks(NavigatorCore):
         goal_checker_id: str = "",
         progress_checker_id: str = "",
         path_handler_id: str = "",
-    ) -> RunningTask | Literal[False]:
+    ) -> RunningTask | None:
         """Track ``path`` (``nav_msgs/Path`` in map) with the controller alone."""
         self.info("Executing path...")
 
@@ -99,13 +116,16 @@ class NavigatorTasks(NavigatorCore):
         spin_dist: float = 1.57,
         time_allowance: float = 10,
         disable_collision_checks: bool = False,
-    ) -> RunningTask | Literal[False]:
+    ) -> RunningTask | None:
         """Turn in place by ``spin_dist`` rad (the sign is the direction)."""
         self.info(f"Spinning to angle {spin_dist}....")
-        self._collision_checks_stay_on(disable_collision_checks)
         return self._send(
             RunningTask.SPIN,
-            lambda: self._server.spin(float(spin_dist), float(time_allowance)),
+            lambda: self._server.spin(
+                float(spin_dist),
+                float(time_allowance),
+                disable_collision_checks=bool(disable_collision_checks),
+            ),
         )
 
     def backup(
@@ -114,14 +134,16 @@ class NavigatorTasks(NavigatorCore):
         backup_speed: float = 0.025,
         time_allowance: float = 10,
         disable_collision_checks: bool = False,
-    ) -> RunningTask | Literal[False]:
+    ) -> RunningTask | None:
         """Reverse ``backup_dist`` m at ``backup_speed`` m/s (Nav2 floors the speed at 0.10)."""
         self.info(f"Backing up {backup_dist} m at {backup_speed} m/s....")
-        self._collision_checks_stay_on(disable_collision_checks)
         return self._send(
             RunningTask.BACKUP,
             lambda: self._server.back_up(
-                float(backup_dist), float(backup_speed), float(time_allowance)
+                float(backup_dist),
+                float(backup_speed),
+                float(time_allowance),
+                disable_collision_checks=bool(disable_collision_checks),
             ),
         )
 
@@ -133,16 +155,20 @@ class NavigatorTasks(NavigatorCore):
         speed: float = 0.025,
         time_allowance: float = 10,
         disable_collision_checks: bool = False,
-    ) -> RunningTask | Literal[False]:
+    ) -> RunningTask | None:
         """Drive straight ``dist`` m at ``speed`` m/s (same signs; negative drives backwards)."""
         self.info(f"Drive {dist} m on heading at {speed} m/s....")
-        self._collision_checks_stay_on(disable_collision_checks)
         return self._send(
             RunningTask.DRIVE_ON_HEADING,
-            lambda: self._server.drive_on_heading(float(dist), float(speed), float(time_allowance)),
+            lambda: self._server.drive_on_heading(
+                float(dist),
+                float(speed),
+                float(time_allowance),
+                disable_collision_checks=bool(disable_collision_checks),
+            ),
         )
 
-    def assistedTeleop(self, time_allowance: float = 30) -> RunningTask | Literal[False]:
+    def assistedTeleop(self, time_allowance: float = 30) -> RunningTask | None:
         """Drive by :meth:`publishTeleop` twists, slowed or stopped before collisions.
 
         Ends SUCCEEDED on :meth:`preemptTeleop`, FAILED (TIMEOUT) after ``time_allowance`` s of
@@ -169,10 +195,6 @@ class NavigatorTasks(NavigatorCore):
     def preemptTeleop(self) -> None:
         """End a running assisted teleop with success, as Nav2's ``preempt_teleop`` topic does."""
         self._live_server().preempt_teleop()
-
-    def _collision_checks_stay_on(self, disable: bool) -> None:
-        if disable:
-            self.warn("disable_collision_checks is not supported: collision checks stay on")
 
 
 def _count(poses: object) -> int | str:

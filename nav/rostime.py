@@ -19,9 +19,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from contextvars import ContextVar
-from dataclasses import dataclass
 from enum import IntEnum
 from typing import overload
+
+from baobab.nav import time_waiting
+from baobab.nav.rosmsg import Message
 
 S_TO_NS = 1_000_000_000
 """Nanoseconds per second."""
@@ -32,24 +34,26 @@ SimTimeSource = Callable[[], float]
 """A callable returning the current simulation time in seconds."""
 
 
-@dataclass(slots=True, kw_only=True)
-class TimeMsg:
+class TimeMsg(Message):
     """``builtin_interfaces/msg/Time``: a time point as whole seconds plus nanoseconds."""
 
-    sec: int = 0
-    nanosec: int = 0
+    _type_name = "builtin_interfaces/msg/Time"
+    _fields_and_field_types = {"sec": "int32", "nanosec": "uint32"}
+    sec: int
+    nanosec: int
 
 
-@dataclass(slots=True, kw_only=True)
-class DurationMsg:
+class DurationMsg(Message):
     """``builtin_interfaces/msg/Duration``: a span as whole seconds plus nanoseconds.
 
     A negative span has a negative ``sec`` and a ``nanosec`` in ``0..999999999``
     (``-1.5 s`` is ``sec=-2, nanosec=500000000``), as rclpy writes it.
     """
 
-    sec: int = 0
-    nanosec: int = 0
+    _type_name = "builtin_interfaces/msg/Duration"
+    _fields_and_field_types = {"sec": "int32", "nanosec": "uint32"}
+    sec: int
+    nanosec: int
 
 
 class ClockType(IntEnum):
@@ -310,6 +314,11 @@ def set_sim_time_source(source: SimTimeSource | None) -> None:
     _sim_time_source.set(source)
 
 
+def sim_time_source() -> SimTimeSource | None:
+    """The registered simulation time source (None when there is none)."""
+    return _sim_time_source.get()
+
+
 def sim_time_ns() -> int:
     """The registered simulation time in nanoseconds, 0 when no source is registered."""
     source = _sim_time_source.get()
@@ -350,3 +359,28 @@ class Clock:
         """The current simulation time as a :class:`Time` of this clock's type."""
         nanoseconds = sim_time_ns() if self._source is None else round(self._source() * S_TO_NS)
         return Time(nanoseconds=nanoseconds, clock_type=self._clock_type)
+
+    def sleep_until(self, until: Time, context: object = None) -> bool:
+        """Wait until this clock reads ``until``: sim time advances meanwhile (rclpy's
+        ``Clock.sleep_until``); True once it is reached.
+
+        Raises:
+            TypeError: ``until`` is not a :class:`Time`.
+            ValueError: ``until`` belongs to another clock type.
+            UnsupportedRosFeatureError: nothing can advance sim time here (no navigator or ROS
+                runtime in this script, or another thread).
+        """
+        if not isinstance(until, Time):
+            raise TypeError("until must be a Time instance")
+        if until.clock_type != self._clock_type:
+            raise ValueError("until's clock type does not match this clock's type")
+        if until > self.now():
+            time_waiting.wait(until.nanoseconds, None, what="Clock.sleep_until()")
+        return True
+
+    def sleep_for(self, rel_time: Duration, context: object = None) -> bool:
+        """Wait ``rel_time`` of this clock's time (rclpy's ``Clock.sleep_for``); see
+        :meth:`sleep_until`."""
+        if not isinstance(rel_time, Duration):
+            raise TypeError("rel_time must be a Duration instance")
+        return self.sleep_until(self.now() + rel_time, context)

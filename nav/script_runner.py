@@ -18,7 +18,11 @@ Exit status, as Python's own for a script:
 
 Each run happens in a copy of the caller's ``contextvars`` context and inside
 :func:`~baobab.nav.ros.ros_shims`, so defaults, sim-time sources, rclpy state and the modules
-the script loaded from its own folder do not leak into the next run.
+the script loaded from its own folder do not leak into the next run. The script's
+``time.sleep`` advances sim time once it has a navigator, and, unless ``realtime`` is set,
+``time.time`` and ``time.monotonic`` read sim time (:mod:`baobab.nav.script_time`);
+``rclpy.spin_once(timeout_sec=...)``, ``Rate.sleep`` and a clock's ``sleep_for`` advance sim
+time in any case (:mod:`baobab.nav.navigator_time`).
 """
 
 from __future__ import annotations
@@ -28,23 +32,23 @@ import runpy
 import sys
 import traceback
 from collections.abc import Callable, Mapping, Sequence
+from contextlib import ExitStack
 from pathlib import Path
-from types import CodeType, TracebackType
+from types import TracebackType
 from typing import Any
 
 from baobab.nav.defaults import use_navigator_defaults
 from baobab.nav.ros import ros_shims
+from baobab.nav.ros.script_files import ScriptError, check_script
+from baobab.nav.script_time import script_time
 from baobab.sim.errors import SourceError
-from baobab.sim.input_files import read_input_file
 
 EXIT_OK = 0
 EXIT_FAILED = 1
 EXIT_INVALID = 2
 EXIT_INTERRUPTED = 130
 
-
-class ScriptError(SourceError):
-    """A script that cannot be read or compiled, located as ``path:line:col: message``."""
+__all__ = ["ScriptError", "check_script", "run_nav2_script"]
 
 
 def run_nav2_script(
@@ -77,25 +81,6 @@ def run_nav2_script(
     )
 
 
-def check_script(path: Path) -> CodeType:
-    """Read and compile the script at ``path`` without running it.
-
-    Raises:
-        ScriptError: the file cannot be read (or is not a regular file, or is over
-            :data:`~baobab.sim.input_files.MAX_INPUT_BYTES`), or holds a syntax error (located
-            where Python locates it).
-    """
-    shown = str(path)
-    source = read_input_file(path, ScriptError, expected="a Python script")
-    try:
-        return compile(source, shown, "exec", dont_inherit=True)
-    except SyntaxError as exc:
-        line, column = exc.lineno or 1, exc.offset or 1
-        raise ScriptError(shown, line, max(column, 1), f"{type(exc).__name__}: {exc.msg}") from None
-    except ValueError as exc:  # NUL bytes in the source
-        raise ScriptError(shown, 1, 1, str(exc)) from None
-
-
 def _run_isolated(script: Path, defaults: dict[str, Any], argv: list[str]) -> int:
     folder = script.resolve().parent
     saved_argv, saved_path = sys.argv, list(sys.path)
@@ -103,7 +88,10 @@ def _run_isolated(script: Path, defaults: dict[str, Any], argv: list[str]) -> in
     sys.argv = argv
     sys.path.insert(0, str(folder))
     try:
-        with ros_shims(), use_navigator_defaults(**defaults):
+        with ExitStack() as stack:
+            stack.enter_context(ros_shims())
+            stack.enter_context(use_navigator_defaults(**defaults))
+            stack.enter_context(script_time(wall_clock=bool(defaults.get("realtime", False))))
             status = _guarded(script, lambda: runpy.run_path(str(script), run_name="__main__"))
             cleanup = _guarded(script, _shut_down_ros)
     finally:

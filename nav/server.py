@@ -26,8 +26,9 @@ not import ``behaviours`` (dependencies point the other way).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -35,6 +36,7 @@ from baobab.nav.assisted_teleop import AssistedTeleop
 from baobab.nav.behaviors import (
     AssistedTeleopStats,
     BackUp,
+    Behavior,
     BehaviorContext,
     BehaviorParams,
     DriveOnHeading,
@@ -48,7 +50,7 @@ from baobab.nav.costmap_filters import KeepoutParams, keepout_filter, speed_filt
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
-from baobab.nav.interfaces import MobileBase, ScanSource, ServerTask
+from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
 from baobab.nav.layers import StaticLayer
 from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
@@ -145,6 +147,11 @@ class NavigationServer:
         )
         self.metrics = NavigationMetrics()
         self.tasks = TaskSlot(base, self.follower, self._clock)
+        self.action_servers: dict[str, ActionServer] = {}
+        """Servers of the Nav2 actions this server does not run, by action name (none yet)."""
+        self.services: dict[str, Callable[..., Any]] = {}
+        """Nav2 services beyond the costmap ones, by name: ``collision_monitor/toggle``
+        (``enable`` -> ``(success, message)``) when a collision monitor is plugged in."""
         self._lidar = lidar
         self._last_pose = base.pose()
         if lidar is not None:
@@ -230,29 +237,58 @@ class NavigationServer:
             "follow_path", lambda: FollowPathTask(plan, self.follower), preempt
         )
 
-    def spin(self, target_yaw: float = 1.57, time_allowance: float = 10.0) -> TaskHandle:
+    def spin(
+        self,
+        target_yaw: float = 1.57,
+        time_allowance: float = 10.0,
+        *,
+        disable_collision_checks: bool = False,
+    ) -> TaskHandle:
         """Turn in place by ``target_yaw`` rad (signed); ``time_allowance`` 0 means no limit."""
         return self.tasks.submit(
-            "spin", lambda: Spin(self.behavior_context, target_yaw, time_allowance), None
+            "spin",
+            lambda: _checked(
+                Spin(self.behavior_context, target_yaw, time_allowance), disable_collision_checks
+            ),
+            None,
         )
 
     def back_up(
-        self, distance: float = 0.15, speed: float = 0.025, time_allowance: float = 10.0
+        self,
+        distance: float = 0.15,
+        speed: float = 0.025,
+        time_allowance: float = 10.0,
+        *,
+        disable_collision_checks: bool = False,
     ) -> TaskHandle:
         """Reverse ``|distance|`` m at ``|speed|`` m/s (at least 0.10 m/s, Nav2's minimum)."""
         return self.tasks.submit(
             "back_up",
-            lambda: BackUp(self.behavior_context, distance, speed, time_allowance),
+            lambda: _checked(
+                BackUp(self.behavior_context, distance, speed, time_allowance),
+                disable_collision_checks,
+            ),
             None,
         )
 
     def drive_on_heading(
-        self, distance: float = 0.15, speed: float = 0.025, time_allowance: float = 10.0
+        self,
+        distance: float = 0.15,
+        speed: float = 0.025,
+        time_allowance: float = 10.0,
+        *,
+        disable_collision_checks: bool = False,
     ) -> TaskHandle:
-        """Drive straight ``distance`` m at ``speed`` m/s (same signs; negative is backwards)."""
+        """Drive straight ``distance`` m at ``speed`` m/s (same signs; negative is backwards).
+
+        ``disable_collision_checks`` drives without checking the projected motion (Kilted+).
+        """
         return self.tasks.submit(
             "drive_on_heading",
-            lambda: DriveOnHeading(self.behavior_context, distance, speed, time_allowance),
+            lambda: _checked(
+                DriveOnHeading(self.behavior_context, distance, speed, time_allowance),
+                disable_collision_checks,
+            ),
             None,
         )
 
@@ -358,6 +394,21 @@ class NavigationServer:
         """
         self.costmap_updates.clear_and_remark(which)
 
+    def clear_costmap_region(
+        self, which: str, x: float, y: float, reset_distance: float, *, inside: bool
+    ) -> None:
+        """Clear the ``local`` or ``global`` obstacle layer in (``inside``) or outside the
+        square of side ``reset_distance`` (m) centred on map point ``(x, y)``
+        (:meth:`~baobab.nav.layered_costmap.LayeredCostmap.clear_region`).
+
+        Raises:
+            ValueError: ``which`` is neither ``local`` nor ``global``.
+        """
+        costmaps = {"local": self.local_layers, "global": self.global_layers}
+        if which not in costmaps:
+            raise ValueError(f"which must be 'local' or 'global', got {which!r}")
+        costmaps[which].clear_region(x, y, reset_distance, inside=inside)
+
     def global_costmap(self) -> Costmap2D:
         """The global costmap, up to date."""
         return self.global_layers.costmap
@@ -409,6 +460,11 @@ class NavigationServer:
         )
         self._last_pose = pose
         self.tasks.tick(now)
+
+
+def _checked(behavior: Behavior, disable_collision_checks: bool) -> Behavior:
+    behavior.collision_checks = not disable_collision_checks
+    return behavior
 
 
 def _preempt_navigation(task: ServerTask, goals: list[Pose2D]) -> bool:

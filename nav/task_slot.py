@@ -76,6 +76,7 @@ class TaskSlot:
                 (None: tasks of this type cannot be preempted).
         """
         handle = TaskHandle(name, self._on_cancel)
+        handle.started_at = self._clock()
         active = self._active
         if active is not None:
             # The task's feedback dict goes on with the new goal; the old handle keeps a copy
@@ -85,13 +86,13 @@ class TaskSlot:
                 previous, active.handle = active.handle, handle
                 handle.feedback = active.task.feedback
                 previous.feedback = last_feedback
-                previous.finish(preempted(name))
+                self._finish(previous, preempted(name))
                 return handle
             self._active = None
             active.task.halt()
             self._base.stop()
             same = active.handle.name == name
-            active.handle.finish(preempted(name) if same else CANCELED)
+            self._finish(active.handle, preempted(name) if same else CANCELED)
         self._follower.path = None  # no current path until the new task plans or brings one
         task = make()
         handle.feedback = task.feedback
@@ -113,7 +114,7 @@ class TaskSlot:
         if outcome is not None and self._active is active:
             self._active = None
             self._base.stop()
-            active.handle.finish(outcome)
+            self._finish(active.handle, outcome)
 
     def _on_cancel(self, handle: TaskHandle) -> None:
         active = self._active
@@ -122,4 +123,10 @@ class TaskSlot:
         self._active = None
         active.task.halt()
         self._base.stop()
-        handle.finish(CANCELED)
+        self._finish(handle, CANCELED)
+
+    def _finish(self, handle: TaskHandle, outcome: TaskOutcome) -> None:
+        """End ``handle`` with ``outcome`` now (its ``ended_at`` is the sim time)."""
+        if handle.outcome is None:
+            handle.ended_at = self._clock()
+        handle.finish(outcome)

@@ -11,12 +11,22 @@ succeeds, even with missed waypoints, unless ``number_of_loops`` asks for more p
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from enum import IntEnum
 from typing import Any
 
 from baobab.nav.errors import FollowWaypointsError
 from baobab.nav.interfaces import ServerTask
 from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D
+
+
+class WaypointStatus(IntEnum):
+    """How one waypoint of a goal list went (``nav2_msgs/WaypointStatus`` values)."""
+
+    PENDING = 0
+    COMPLETED = 1
+    SKIPPED = 2
+    FAILED = 3
 
 
 def _failed(code: FollowWaypointsError, message: str) -> TaskOutcome:

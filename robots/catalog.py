@@ -17,6 +17,8 @@ ARM = "arm"
 """Cartesian tool moves and a gripper."""
 TELEOP = "teleop"
 """Teleop input that events hold (assisted teleop reads it)."""
+ROS_NODES = "ros_nodes"
+"""rclpy node files run on the robot, which is on ROS topics (:mod:`baobab.nav.ros`)."""
 
 
 @dataclass(frozen=True)
@@ -57,7 +59,7 @@ ROBOTS: dict[str, RobotInfo] = {
     "turtlebot3": RobotInfo(
         name="turtlebot3",
         description="TurtleBot3 Burger: differential drive with a 360-beam 2D lidar",
-        capabilities=frozenset({NAVIGATION, BASE_CONTROLLERS, TELEOP}),
+        capabilities=frozenset({NAVIGATION, BASE_CONTROLLERS, TELEOP, ROS_NODES}),
         mobile=True,
         footprint_radius=0.105,
         max_linear_speed=0.22,
@@ -67,7 +69,7 @@ ROBOTS: dict[str, RobotInfo] = {
     "panda": RobotInfo(
         name="panda",
         description="Franka Panda arm with a parallel gripper, Cartesian impedance control",
-        capabilities=frozenset({ARM}),
+        capabilities=frozenset({ARM, ROS_NODES}),
         mobile=False,
         scenes=("panda_table",),
         scene_objects=("cube",),

@@ -44,12 +44,15 @@ class TaskHandle:
 
     Servers create it, update ``feedback`` as the task runs and call :meth:`finish` once.
     ``on_cancel`` is the server's hook that stops the task; it runs once, on the first
-    :meth:`cancel` while the task is running.
+    :meth:`cancel` while the task is running. A server that keeps time sets ``started_at``
+    and ``ended_at`` (sim seconds), from which senders report the task's elapsed time.
     """
 
     def __init__(self, name: str, on_cancel: Callable[[TaskHandle], None]) -> None:
         self.name = name
         self.feedback: dict[str, Any] = {}
+        self.started_at: float | None = None
+        self.ended_at: float | None = None
         self._outcome: TaskOutcome | None = None
         self._on_cancel = on_cancel
         self._cancel_requested = False

@@ -106,6 +106,14 @@ tree:
     - follow_path: {path: [{x: 0, y: 0}, {x: 0.5, y: 0, yaw: 0.1}]}
     - timeout: {duration: 60.5, child: {elapsed: 0}}
     - subtree: {name: park, args: {slot: 1}}
+    - parallel:
+        policy: success_on_one
+        children:
+          - ros_node:
+              script: node.py
+              params: {rate: 2.0, frame: odom, gains: [1.0, 2.5]}
+              node_name: talker
+          - wait: 0.01
 timeout: 100
 """
 
@@ -139,6 +147,7 @@ CORPUS = {"mobile": MOBILE, "arm": ARM}
 
 
 def mission_file(tmp_path: Path, body: str, name: str) -> Path:
+    (tmp_path / "node.py").write_text("print('a node file next to the mission')\n")
     path = tmp_path / f"{name}.yaml"
     path.write_text(HEADER + body, encoding="utf-8")
     return path
@@ -219,7 +228,7 @@ def test_subtree_and_mission_parameters_reach_sleep_and_timeout_in_milliseconds(
     tour_open = [250, 250, 30000, 250]  # --set pause=0.25 through tour into visit
     tour_behind_wall = [10, 10, 30000, 10]
     visits = [20, 20, 1, 1]  # visit's default pause, then 0.001 s
-    expected = tour_open + tour_behind_wall + visits + [10, 60500]
+    expected = tour_open + tour_behind_wall + visits + [10, 60500, 10]  # 10: beside ros_node
     assert read_msec(xml) == expected == durations_msec(mission)
     root = ET.fromstring(xml)
     visit = next(tree for tree in root.findall("BehaviorTree") if tree.get("ID") == "visit")

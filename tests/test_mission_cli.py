@@ -51,6 +51,7 @@ def test_validate_accepts_the_fixtures(capsys: pytest.CaptureFixture[str]) -> No
         f"{FIXTURES / 'delivery.yaml'}: ok (delivery: turtlebot3 in diner.yaml, 8 nodes)",
         f"{FIXTURES / 'patrol.yaml'}: ok (patrol: turtlebot3 in walls, 27 nodes)",
         f"{FIXTURES / 'pick.yaml'}: ok (pick_and_place: panda in panda_table, 11 nodes)",
+        f"{FIXTURES / 'ros_listener.yaml'}: ok (ros_listener: turtlebot3 in walls, 3 nodes)",
     ]
 
 
@@ -200,6 +201,6 @@ def test_list_names_missions_worlds_robots_and_every_behaviour(
     code, out, _ = _run(capsys, "list", "--json")
     catalogue = json.loads(out)
     assert set(catalogue) == {"missions", "worlds", "scenes", "robots", "behaviours"}
-    assert catalogue["robots"]["panda"]["capabilities"] == ["arm"]
+    assert catalogue["robots"]["panda"]["capabilities"] == ["arm", "ros_nodes"]
     assert catalogue["behaviours"]["move_to"]["capability"] == "arm"
     assert "walls" in catalogue["worlds"]

@@ -204,6 +204,113 @@ def test_example_nav_through_poses(capsys: pytest.CaptureFixture[str], recorded:
     assert not any(watch.touched for watch in recorded.contacts)
 
 
+def test_example_follow_path_keeps_to_its_smoothed_path(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "follow_path.py", "cafe") == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[-1] == "Goal succeeded!"
+    errors = [abs(float(e)) for e in re.findall(r"off the path: ([-+][\d.]+) m", out)]
+    assert errors and max(errors) < 0.15
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=1.16, y=-4.23)) <= 0.25
+    assert not any(watch.touched for watch in recorded.contacts)
+
+
+def test_example_recoveries_backs_up_spins_and_drives_home(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "recoveries.py", "cafe") == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[-1] == "Goal succeeded!"
+    backed = [float(d) for d in re.findall(r"Backing up: ([\d.]+) m", out)]
+    turned = [float(a) for a in re.findall(r"Spinning: ([\d.]+) rad", out)]
+    assert backed == sorted(backed) and 0.2 < backed[-1] <= 0.3
+    assert turned == sorted(turned) and 2.5 < turned[-1] <= 3.14
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=0.0, y=0.0)) <= 0.25
+
+
+def test_example_picking_delivers_from_the_kitchen(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "picking.py", "cafe") == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert "Got the order at the kitchen; taking it to table_3." in lines
+    assert lines[-1] == "Order delivered!"
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=0.792, y=-8.27)) <= 0.25
+
+
+def test_example_security_patrol_goes_there_and_back(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "security_patrol.py", "farm") == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert "Round 1 done, patrolling back." in lines and lines[-1] == "Patrol complete!"
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=-6.5, y=-4.2)) <= 0.25  # back at the start
+
+
+def test_example_assisted_teleop_stops_short_of_the_wall_while_the_script_sleeps(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "assisted_teleop.py", "walls") == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[-1] == "Assisted teleop succeeded!"
+    durations = [float(d) for d in re.findall(r"Teleop for ([\d.]+) s", "\n".join(lines))]
+    # Each poll: isTaskComplete's 0.1 s, then time.sleep(0.2) of sim time.
+    assert durations[1] - durations[0] == pytest.approx(0.3)
+    assert 12.0 <= recorded.sim_time < 12.6
+    assert recorded.final_pose is not None
+    assert 0.6 < recorded.final_pose.x < 1.15 - 0.105  # driven, stopped short of wall_east
+    assert not any(watch.touched for watch in recorded.contacts)
+
+
+ROUTE_SCRIPT = """\
+import rclpy
+from geometry_msgs.msg import PoseStamped
+from nav2_simple_commander.robot_navigator import BasicNavigator, RunningTask, TaskResult
+from nav2_simple_commander.utils import euler_to_quaternion
+
+
+def pose(navigator, x, y, yaw):
+    p = PoseStamped()
+    p.header.frame_id = "map"
+    p.header.stamp = navigator.get_clock().now().to_msg()
+    p.pose.position.x, p.pose.position.y = x, y
+    p.pose.orientation = euler_to_quaternion(0.0, 0.0, yaw)
+    return p
+
+
+rclpy.init()
+navigator = BasicNavigator()
+navigator.declare_parameter("start", [0.0, 0.0, 0.0])
+navigator.declare_parameter("goal", [2.0, 1.0, 0.0])
+start = navigator.get_parameter("start").value
+goal = navigator.get_parameter("goal").value
+navigator.waitUntilNav2Active()
+task = navigator.getAndTrackRoute(pose(navigator, *start), pose(navigator, *goal))
+while not navigator.isTaskComplete(task=RunningTask.COMPUTE_AND_TRACK_ROUTE):
+    feedback = navigator.getFeedback(task=RunningTask.COMPUTE_AND_TRACK_ROUTE)
+print(task, navigator.getTaskError()[0], navigator.getResult().name)
+navigator.lifecycleShutdown()
+"""
+
+
+def test_a_rolling_route_script_runs_and_its_route_task_fails_cleanly(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    script = tmp_path / "route.py"
+    script.write_text(ROUTE_SCRIPT, encoding="utf-8")
+    assert run(script, "walls") == 0  # imports nav2_simple_commander.utils, reads parameters
+    captured = capsys.readouterr()
+    assert captured.out == "None 400 UNKNOWN\n"  # ComputeAndTrackRoute's UNKNOWN: no server
+    assert "'ComputeAndTrackRoute' action server ('compute_and_track_route') not available" in (
+        captured.err
+    )
+
+
 # --- the command line -----------------------------------------------------------------------
 
 SHOW_START = """\

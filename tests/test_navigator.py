@@ -37,16 +37,16 @@ from baobab.nav.msgs import (
 )
 from baobab.nav.navigator import LoadMapResult
 from baobab.nav.navigator_core import POLL_HORIZON
-from baobab.nav.navigator_feedback import (
-    BackUpFeedback,
-    FollowWaypointsFeedback,
-    GoalStatus,
-    NavigateThroughPosesFeedback,
-    NavigateToPoseFeedback,
-    SpinFeedback,
-    WaypointStatus,
-)
+from baobab.nav.navigator_feedback import GoalStatus
 from baobab.nav.navigator_robot import NavigatorSetupError
+from baobab.nav.ros.nav2_msgs.action import (
+    BackUp,
+    FollowWaypoints,
+    NavigateThroughPoses,
+    NavigateToPose,
+    Spin,
+)
+from baobab.nav.ros.nav2_msgs.msg import WaypointStatus
 from baobab.nav.rostime import ClockType, Duration
 from baobab.sim.builder import movable_slot_name
 from baobab.sim.errors import WorldError
@@ -104,7 +104,7 @@ def test_go_to_pose_with_a_feedback_loop(cafe: BasicNavigator) -> None:
         assert 0.0 < after - before <= POLL_HORIZON + 1e-9  # one poll, at most 0.1 s of sim time
         before = after
         feedback = cafe.getFeedback()
-        assert isinstance(feedback, NavigateToPoseFeedback)
+        assert isinstance(feedback, NavigateToPose.Feedback)
         assert isinstance(feedback.navigation_time, DurationMsg)
         assert feedback.current_pose.header.frame_id == "map"
         samples.append(
@@ -137,13 +137,13 @@ def test_preempt_then_cancel_mid_way(cafe: BasicNavigator) -> None:
     for _ in range(30):
         assert not cafe.isTaskComplete()
     first = cafe.getFeedback()
-    assert isinstance(first, NavigateToPoseFeedback) and seconds(first.navigation_time) > 2.5
+    assert isinstance(first, NavigateToPose.Feedback) and seconds(first.navigation_time) > 2.5
     # Same type: preempted in place, the navigation time starts again.
     assert cafe.goToPose(goal(cafe, 1.0, -3.0)) is RunningTask.NAVIGATE_TO_POSE
     for _ in range(5):
         assert not cafe.isTaskComplete()
     second = cafe.getFeedback()
-    assert isinstance(second, NavigateToPoseFeedback) and seconds(second.navigation_time) < 1.0
+    assert isinstance(second, NavigateToPose.Feedback) and seconds(second.navigation_time) < 1.0
     assert abs(cafe.server.base.body_velocity()[0]) > 0.05
 
     cafe.cancelNav()
@@ -164,7 +164,7 @@ def test_follow_waypoints_skips_a_waypoint_inside_a_table(cafe: BasicNavigator) 
     polls_on_the_occupied_waypoint = 0
     while not cafe.isTaskComplete():
         feedback = cafe.getFeedback()
-        assert isinstance(feedback, FollowWaypointsFeedback)
+        assert isinstance(feedback, FollowWaypoints.Feedback)
         if not seen or seen[-1] != feedback.current_waypoint:
             seen.append(feedback.current_waypoint)
         polls_on_the_occupied_waypoint += feedback.current_waypoint == 1
@@ -193,7 +193,7 @@ def test_go_through_poses_in_the_farm() -> None:
         remaining: list[int] = []
         while not navigator.isTaskComplete():
             feedback = navigator.getFeedback()
-            if isinstance(feedback, NavigateThroughPosesFeedback):
+            if isinstance(feedback, NavigateThroughPoses.Feedback):
                 remaining.append(feedback.number_of_poses_remaining)
             assert sim_time(navigator) < 30.0
         assert navigator.getResult() is TaskResult.SUCCEEDED
@@ -209,7 +209,7 @@ def test_spin_back_up_and_drive_on_heading(cafe: BasicNavigator) -> None:
     turned: list[float] = []
     while not cafe.isTaskComplete():
         feedback = cafe.getFeedback()
-        assert isinstance(feedback, SpinFeedback)
+        assert isinstance(feedback, Spin.Feedback)
         turned.append(feedback.angular_distance_traveled)
     assert cafe.getResult() is TaskResult.SUCCEEDED
     assert turned[-1] > 1.3 and turned == sorted(turned)
@@ -218,7 +218,7 @@ def test_spin_back_up_and_drive_on_heading(cafe: BasicNavigator) -> None:
     facing = cafe.robot_pose()
     assert cafe.backUp(backup_dist=0.2, backup_speed=0.1) is RunningTask.BACKUP
     assert BasicNavigator.backUp is BasicNavigator.backup
-    assert isinstance(cafe.getFeedback(), BackUpFeedback | None)
+    assert isinstance(cafe.getFeedback(), BackUp.Feedback | None)
     wait(cafe, 10.0)
     assert cafe.getResult() is TaskResult.SUCCEEDED
     backed = cafe.robot_pose()
@@ -298,7 +298,7 @@ def test_get_path_leaves_the_running_task_alone(cafe: BasicNavigator) -> None:
     assert smoothed is not None and len(smoothed.poses) == len(through.poses)
     assert cafe.smoothPath(through, smoother_id="constrained_smoother") is None
     # The navigation goes on: same task, same feedback type, and it arrives.
-    assert isinstance(cafe.getFeedback(), NavigateToPoseFeedback)
+    assert isinstance(cafe.getFeedback(), NavigateToPose.Feedback)
     wait(cafe, 30.0)
     assert cafe.getResult() is TaskResult.SUCCEEDED
     assert distance(cafe.robot_pose(), Pose2D(x=TABLE_1[0], y=TABLE_1[1])) <= 0.25
@@ -344,7 +344,7 @@ def test_follow_path_tracks_a_planned_path(cafe: BasicNavigator) -> None:
     wait(cafe, 20.0)
     assert cafe.getResult() is TaskResult.SUCCEEDED
     assert distance(cafe.robot_pose(), Pose2D(x=1.0, y=-1.0)) <= 0.25
-    assert cafe.followPath(path, controller_id="MPPI") is False
+    assert cafe.followPath(path, controller_id="MPPI") is None
     assert cafe.getTaskError()[0] == FollowPathError.INVALID_CONTROLLER
 
 
@@ -360,7 +360,7 @@ def test_rejected_goals_end_at_once_and_fail() -> None:
         assert not navigator.isTaskComplete()
         odom_goal = goal(navigator, 1.0, 0.0)
         odom_goal.header.frame_id = "odom"
-        assert navigator.goToPose(odom_goal) is False
+        assert navigator.goToPose(odom_goal) is None
         start = sim_time(navigator)
         polls = 0
         while not navigator.isTaskComplete():  # the Nav2 pitfall: this loop must end
@@ -375,10 +375,10 @@ def test_rejected_goals_end_at_once_and_fail() -> None:
 
         zero = goal(navigator, 1.0, 0.0)
         zero.pose.orientation = Quaternion(x=0.0, y=0.0, z=0.0, w=0.0)
-        assert navigator.goToPose(zero) is False
-        assert navigator.goThroughPoses([]) is False
+        assert navigator.goToPose(zero) is None
+        assert navigator.goThroughPoses([]) is None
         assert navigator.getTaskError()[0] == NavigateThroughPosesError.UNKNOWN
-        assert navigator.goToPose(goal(navigator, 1.0, 0.0), behavior_tree="my_bt.xml") is False
+        assert navigator.goToPose(goal(navigator, 1.0, 0.0), behavior_tree="my_bt.xml") is None
         assert navigator.getTaskError()[0] == NavigateToPoseError.FAILED_TO_LOAD_BEHAVIOR_TREE
         with pytest.raises(TypeError, match="PoseStamped"):
             navigator.goToPose(Pose2D(x=1.0, y=0.0))  # type: ignore[arg-type]

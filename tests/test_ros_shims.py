@@ -16,7 +16,7 @@ import pytest
 import baobab.nav.ros
 from baobab.nav.defaults import DEFAULT_WORLD, NavigatorDefaults, navigator_defaults
 from baobab.nav.msgs import PoseStamped
-from baobab.nav.ros import ROS_MODULES, UnsupportedRosFeatureError, ros_shims
+from baobab.nav.ros import ROS_MODULES, RUNTIME_MODULES, UnsupportedRosFeatureError, ros_shims
 from baobab.nav.ros._navigator_exports import NAVIGATOR_MODULE, NAVIGATOR_NAMES
 from baobab.nav.rostime import Clock, ClockType, Duration, DurationMsg, Time, set_sim_time_source
 from baobab.nav.script_runner import run_nav2_script
@@ -231,22 +231,22 @@ def test_bad_navigator_defaults_are_a_programming_error(tmp_path: Path) -> None:
 def test_modules_already_loaded_under_ros_names_are_hidden_then_restored(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    real_rclpy, real_executors = ModuleType("rclpy"), ModuleType("rclpy.executors")
+    real_rclpy, real_action = ModuleType("rclpy"), ModuleType("rclpy.action")
     monkeypatch.setitem(sys.modules, "rclpy", real_rclpy)
-    monkeypatch.setitem(sys.modules, "rclpy.executors", real_executors)
+    monkeypatch.setitem(sys.modules, "rclpy.action", real_action)
     script = write(
         tmp_path,
         "which.py",
         "import rclpy\n"
         "print(rclpy.__name__)\n"
         "try:\n"
-        "    import rclpy.executors\n"
+        "    import rclpy.action\n"
         "except ModuleNotFoundError as exc:\n"
         "    print(exc)\n",
     )
     assert run_nav2_script(script, navigator_defaults={}) == 0
-    assert capsys.readouterr().out == "baobab.nav.ros.rclpy\nNo module named 'rclpy.executors'\n"
-    assert sys.modules["rclpy"] is real_rclpy and sys.modules["rclpy.executors"] is real_executors
+    assert capsys.readouterr().out == "baobab.nav.ros.rclpy\nNo module named 'rclpy.action'\n"
+    assert sys.modules["rclpy"] is real_rclpy and sys.modules["rclpy.action"] is real_action
 
 
 def test_modules_next_to_the_script_are_loaded_afresh_for_each_run(
@@ -273,7 +273,7 @@ def test_every_shim_module_is_served_under_its_ros_name() -> None:
         for info in pkgutil.walk_packages(baobab.nav.ros.__path__, "baobab.nav.ros.")
         if not any(part.startswith("_") for part in info.name.split("."))
     }
-    assert found == set(ROS_MODULES)
+    assert found == set(ROS_MODULES) | set(RUNTIME_MODULES)
     with ros_shims():
         for name in ROS_MODULES:
             assert sys.modules[name] is importlib.import_module(f"baobab.nav.ros.{name}")
@@ -314,11 +314,32 @@ def test_ros_features_baobab_does_not_model_raise_clear_errors() -> None:
     with ros_shims():
         rclpy = importlib.import_module("rclpy")
         node = rclpy.create_node("lonely")
-        with pytest.raises(UnsupportedRosFeatureError, match="create_publisher"):
-            node.create_publisher(object, "/cmd_vel", 10)
-        with pytest.raises(UnsupportedRosFeatureError, match=r"rclpy\.spin\(\)"):
+        with pytest.raises(UnsupportedRosFeatureError, match="create_client"):
+            node.create_client(object, "/get_map")
+        with pytest.raises(UnsupportedRosFeatureError, match="baobab ros run"):
             rclpy.spin(node)
         rclpy.spin_once(node, timeout_sec=0.1)
+
+
+def test_a_nav2_scripts_nodes_talk_among_themselves_outside_a_run() -> None:
+    with ros_shims():
+        rclpy = importlib.import_module("rclpy")
+        twist_type = importlib.import_module("geometry_msgs.msg").Twist
+        rclpy.init()
+        teleop, listener = rclpy.create_node("teleop"), rclpy.create_node("listener")
+        heard: list[float] = []
+        listener.create_subscription(
+            twist_type, "cmd_vel_teleop", lambda m: heard.append(m.linear.x), 10
+        )
+        publisher = teleop.create_publisher(twist_type, "/cmd_vel_teleop", 10)
+        command = twist_type()
+        command.linear.x = 0.2
+        publisher.publish(command)
+        command.linear.x = 0.5  # the subscriber got its own copy
+        assert heard == []
+        rclpy.spin_once(listener, timeout_sec=0.0)
+        assert heard == [0.2]
+        rclpy.shutdown()
 
 
 # --- an unmodified seed script against a scripted navigator ----------------------------------

@@ -55,10 +55,16 @@ def main(argv: Sequence[str] | None = None) -> int:
                 file=sys.stderr,
             )
             return EXIT_INVALID
+    extras: dict[str, list[str]] = {}
+    if command == "ros":  # `-- --ros-args ...` and `name:=value` words are not argparse's
+        from baobab.missions.cli.ros_command import split_arguments
+
+        arguments, extras = split_arguments(arguments)
     try:
         args = parser.parse_args(arguments)
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
         return int(exit_.code or 0)
+    vars(args).update(extras)
     handler: Handler = args.handler
     signals_for(args.command)
     try:
@@ -227,6 +233,18 @@ def _nav2(args: argparse.Namespace) -> int:
     return nav2_command(args)
 
 
+def _configure_ros(parser: argparse.ArgumentParser) -> None:
+    from baobab.missions.cli.ros_command import configure_ros
+
+    configure_ros(parser)
+
+
+def _ros(args: argparse.Namespace) -> int:
+    from baobab.missions.cli.ros_command import ros_command
+
+    return ros_command(args)
+
+
 SUBCOMMANDS: dict[str, Subcommand] = {
     "run": Subcommand(_configure_run, _run, "run a mission and write its run folder"),
     "validate": Subcommand(
@@ -242,5 +260,6 @@ SUBCOMMANDS: dict[str, Subcommand] = {
         _configure_campaign, _campaign, "seeded sweeps of a mission, in parallel"
     ),
     "nav2": Subcommand(_configure_nav2, _nav2, "run a Nav2 Simple Commander script"),
+    "ros": Subcommand(_configure_ros, _ros, "run rclpy node files or a launch file on sim time"),
 }
 """Subcommand name -> its arguments, handler and help, in the order ``baobab --help`` lists them."""

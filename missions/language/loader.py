@@ -190,7 +190,9 @@ class _Loader:
         world, world_name = self._world(file.world, robot)
         if file.filters is not None:
             world = self._filters(file.filters, world)
-        scope = MissionScope(robot, world, self._locations(file, robot, world))
+        scope = MissionScope(
+            robot, world, self._locations(file, robot, world), self.path.parent.resolve()
+        )
         start = self._start(file.start, scope, world)
         parser = TreeParser(self.document, self.registry, scope, file.subtrees, self.origins)
         tree = parser.parse(file.tree, ("tree",))

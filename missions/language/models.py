@@ -216,7 +216,27 @@ class FaultEvent(_Strict):
         return self
 
 
-EVENT_KINDS = ("cancel", "spawn_obstacle", "move_obstacle", "teleop", "fault")
+ROS_TOPIC = r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"
+ROS_MESSAGE_TYPE = r"^[A-Za-z_][A-Za-z0-9_]*/(msg/)?[A-Za-z_][A-Za-z0-9_]*$"
+
+
+class PublishMessage(_Strict):
+    """One message: its topic, its type (``pkg/msg/Type``) and its fields, as YAML (as
+    ``ros2 topic pub`` takes them; a field not given keeps its ROS default)."""
+
+    topic: str = Field(pattern=ROS_TOPIC, description="e.g. /goal")
+    type: str = Field(pattern=ROS_MESSAGE_TYPE, description="e.g. geometry_msgs/msg/PoseStamped")
+    message: dict[str, Any] = Field(default_factory=dict, description="the fields")
+
+
+class PublishEvent(_Strict):
+    """Publish a message on a ROS topic at ``at`` s, for the nodes the tree runs."""
+
+    at: NonNegative
+    publish: PublishMessage
+
+
+EVENT_KINDS = ("cancel", "spawn_obstacle", "move_obstacle", "teleop", "fault", "publish")
 MAX_EVENTS = 1_000
 """Most timed events in one mission."""
 
@@ -233,7 +253,8 @@ Event = Annotated[
     | Annotated[SpawnObstacleEvent, Tag("<spawn_obstacle>")]
     | Annotated[MoveObstacleEvent, Tag("<move_obstacle>")]
     | Annotated[TeleopEvent, Tag("<teleop>")]
-    | Annotated[FaultEvent, Tag("<fault>")],
+    | Annotated[FaultEvent, Tag("<fault>")]
+    | Annotated[PublishEvent, Tag("<publish>")],
     Discriminator(
         _event_kind,
         custom_error_type="event_kind",

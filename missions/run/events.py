@@ -1,29 +1,35 @@
-"""Timed mission events: cancel, obstacles that appear or move, teleop input, and faults.
+"""Timed mission events: cancel, obstacles that appear or move, teleop input, faults, and
+messages published on ROS topics.
 
 The run loop asks :class:`TimedEvents` for the next due time, advances the simulation exactly
 there (rounded up to a physics step) and applies what is due. Obstacles go into the world's
 movable slots and teleop input into the rig's teleop channel
 (:mod:`baobab.missions.run.event_targets`); teleop input is held for ``duration`` seconds.
 Faults go to a :class:`~baobab.missions.run.faults.FaultInjector`; a lasting one ends after
-its ``duration``.
+its ``duration``. A published message goes to the run's ROS runtime
+(:class:`~baobab.nav.ros.mission_nodes.MissionNodes`), for the nodes the tree runs.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from baobab.missions.language.models import (
     CancelEvent,
     Event,
     FaultEvent,
     MoveObstacleEvent,
+    PublishEvent,
     SpawnObstacleEvent,
     TeleopEvent,
 )
 from baobab.missions.run.event_targets import EventError, ObstacleSlots, TeleopChannel
 from baobab.missions.run.faults import FaultInjector
+
+if TYPE_CHECKING:
+    from baobab.nav.ros.mission_nodes import MissionNodes
 
 __all__ = ["EventError", "TimedEvents"]
 
@@ -45,6 +51,11 @@ class TimedEvents:
         obstacles: where spawn and move events put obstacles (None for fixed robots).
         teleop: where teleop events put their command (None without teleop).
         faults: what injects fault events (None: a fault event raises EventError).
+        ros: where publish events send their messages (None: a publish event raises
+            EventError); every message is built and checked here, before the run.
+
+    Raises:
+        EventError: a publish event whose message type or fields do not fit.
     """
 
     def __init__(
@@ -53,6 +64,7 @@ class TimedEvents:
         obstacles: ObstacleSlots | None,
         teleop: TeleopChannel | None,
         faults: FaultInjector | None = None,
+        ros: MissionNodes | None = None,
     ) -> None:
         due = [_Due(event.at, index, event) for index, event in enumerate(events)]
         due += [
@@ -64,6 +76,12 @@ class TimedEvents:
         self.obstacles = obstacles
         self.teleop = teleop
         self.faults = faults
+        self.ros = ros
+        self._messages = {
+            index: _message(index, event)
+            for index, event in enumerate(events)
+            if isinstance(event, PublishEvent) and ros is not None
+        }
         self.canceled_by: CancelEvent | None = None
         """The cancel event that fired, if any."""
 
@@ -107,6 +125,11 @@ class TimedEvents:
             }
         if isinstance(event, FaultEvent):
             return self._fault(event, due.ends, record)
+        if isinstance(event, PublishEvent):
+            if self.ros is None:
+                raise EventError("publish events need a run with ROS topics")
+            self.ros.publish_at_once(_topic(event.publish.topic), self._messages[due.order])
+            return {"event": "publish", **record, "topic": event.publish.topic}
         if self.obstacles is None:
             raise EventError("obstacle events need a mobile robot in a 2D world")
         if isinstance(event, SpawnObstacleEvent):
@@ -139,3 +162,29 @@ class TimedEvents:
             return {"event": "fault_end", **record, "fault": kind}
         details = self.faults.start(event)
         return {"event": "fault", **record, "fault": kind, "duration": event.duration, **details}
+
+
+def _topic(name: str) -> str:
+    return name if name.startswith("/") else f"/{name}"
+
+
+def _message(index: int, event: PublishEvent) -> Any:
+    """The message of a publish event, built from its fields.
+
+    Raises:
+        EventError: an unknown message type, or fields that do not fit it.
+    """
+    from baobab.nav.ros import load_message_types
+    from baobab.nav.rosmsg import MessageFieldError, fill_message, message_class
+
+    load_message_types()
+    spec = event.publish
+    where = f"events[{index}].publish"
+    try:
+        message = message_class(spec.type)()
+    except KeyError:
+        raise EventError(f"{where}: unknown message type '{spec.type}'") from None
+    try:
+        return fill_message(message, spec.message)
+    except MessageFieldError as exc:
+        raise EventError(f"{where}.message: {exc}") from None

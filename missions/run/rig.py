@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
-from baobab.behaviours.ports import NAVIGATION, Capabilities, NavigationPort
+from baobab.behaviours.ports import NAVIGATION, ROS_NODES, Capabilities, NavigationPort
 from baobab.behaviours.poses import Pose
 from baobab.missions.language.loader import Mission
 from baobab.missions.run.arm_probes import ArmProbe, TrackingProbe
@@ -34,6 +34,7 @@ from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
 
 if TYPE_CHECKING:
+    from baobab.nav.ros.mission_nodes import MissionNodes
     from baobab.nav.server import NavigationServer
 
 ARM_CONTACT_NAME_PERIOD = 0.01
@@ -52,6 +53,8 @@ class Rig(Protocol):
     metrics: MetricRegistry
     obstacles: ObstacleSlots | None
     teleop: TeleopChannel | None
+    ros: MissionNodes | None
+    """The ROS runtime of a mission that runs node files or publishes messages, else None."""
 
     def state(self) -> dict[str, Any]:
         """The robot's state for the trace's ``pose`` records (sim-determined numbers)."""
@@ -69,6 +72,14 @@ class Rig(Protocol):
 def uses_capability(mission: Mission, capability: str) -> bool:
     """True when some node of the mission's tree needs ``capability``."""
     return any(node.behaviour.capability == capability for node in mission.tree.walk())
+
+
+def uses_ros(mission: Mission) -> bool:
+    """True when the mission runs node files or publishes messages on ROS topics."""
+    from baobab.missions.language.models import PublishEvent
+
+    publishes = any(isinstance(event, PublishEvent) for event in mission.events)
+    return publishes or uses_capability(mission, ROS_NODES)
 
 
 def build_rig(mission: Mission, seed: int) -> Rig:
@@ -194,8 +205,17 @@ class MobileRig:
             self.clear_counter = ClearCountingPort(self.navigation)
             port = self.clear_counter
             sim.every(PATH_SAMPLE_PERIOD, self._sample_path, name="plot paths")
+        self.ros: MissionNodes | None = None
+        if uses_ros(mission):
+            from baobab.nav.navigator_robot import simulated_turtlebot3
+            from baobab.nav.ros.mission_nodes import MissionNodes
+
+            self.ros = MissionNodes(sim, mobile=simulated_turtlebot3(self.robot))
         self.capabilities = Capabilities(
-            clock=lambda: sim.time, navigation=port, base_controllers=self.controllers
+            clock=lambda: sim.time,
+            navigation=port,
+            base_controllers=self.controllers,
+            ros_nodes=self.ros,
         )
         spawn_names = set(world.spawns) - set(world.locations)
         locations = {
@@ -316,7 +336,13 @@ class ArmRig:
         self.sim, self.server = build_panda_sim(seed=seed)
         self.port = PandaArmPort(self.sim, self.server)
         sim = self.sim
-        self.capabilities = Capabilities(clock=lambda: sim.time, arm=self.port)
+        self.ros: MissionNodes | None = None
+        if uses_ros(mission):
+            from baobab.nav.navigator_robot import simulated_panda
+            from baobab.nav.ros.mission_nodes import MissionNodes
+
+            self.ros = MissionNodes(sim, arm=simulated_panda(sim, self.server))
+        self.capabilities = Capabilities(clock=lambda: sim.time, arm=self.port, ros_nodes=self.ros)
         self.objects = list(mission.robot.scene_objects)
         self.probe = ArmProbe(
             sim,

@@ -170,7 +170,9 @@ def run_mission(
     check_metric_names(mission, rig.metrics.number_names(), rig.metrics.names())
     compiled = compile_mission(mission, rig.capabilities)
     trace = _started_trace(mission, rig, run_seed)
-    events = TimedEvents(mission.events, rig.obstacles, rig.teleop, fault_injector(rig))
+    events = TimedEvents(
+        mission.events, rig.obstacles, rig.teleop, fault_injector(rig), ros=rig.ros
+    )
     options = recording or RecordingOptions()
     if viewer:
         options = replace(options, viewer=True)
@@ -192,6 +194,8 @@ def run_mission(
     try:
         outcome = loop.run()
     finally:
+        if rig.ros is not None:
+            rig.ros.close()
         if hook is not None:
             hook.close()
         # py_trees' blackboard is process-global: nothing a run wrote reaches the next one.

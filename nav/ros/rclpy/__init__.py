@@ -1,39 +1,68 @@
 """``rclpy``: init/shutdown, ``ok()``, spinning, nodes, time — over baobab's simulation.
 
 ``rclpy.init()`` and ``rclpy.shutdown()`` pair up as in ROS 2 (init twice or shut down twice
-raises ``RuntimeError``; after a shutdown, init works again). ``spin_once`` gives a node its
-per-spin hook; ``spin`` and ``spin_until_future_complete`` would wait forever for ROS
-callbacks that baobab never delivers, so they raise
-:class:`~baobab.nav.ros.UnsupportedRosFeatureError`.
+raises ``RuntimeError``; after a shutdown, init works again). ``spin``, ``spin_once`` and
+``spin_until_future_complete`` use the context's global executor
+(:mod:`~baobab.nav.ros.rclpy.executors`); waiting for callbacks advances sim time, which node
+code run by ``baobab ros run`` can do, and so can a Nav2 script once it built a
+``BasicNavigator``, whose simulation then serves the waits (:mod:`baobab.nav.navigator_time`).
+Elsewhere ``spin_once`` runs the callbacks that are ready, and a call that would wait forever
+raises :class:`~baobab.nav.ros.UnsupportedRosFeatureError`.
 """
 
 from __future__ import annotations
 
-from typing import NoReturn
+from typing import Any
 
-from baobab.nav.ros import UnsupportedRosFeatureError
-from baobab.nav.ros.rclpy import clock, context, duration, logging, node, time
+from baobab.nav.ros import waiting
+from baobab.nav.ros.rclpy import (
+    callback_groups,
+    clock,
+    context,
+    duration,
+    exceptions,
+    executors,
+    logging,
+    node,
+    parameter,
+    qos,
+    task,
+    time,
+    timer,
+    utilities,
+)
 from baobab.nav.ros.rclpy.context import Context, get_default_context
+from baobab.nav.ros.rclpy.executors import Executor, SingleThreadedExecutor
 from baobab.nav.ros.rclpy.node import Node
+from baobab.nav.ros.rclpy.task import Future
 
 __all__ = [
     "Context",
     "Node",
+    "callback_groups",
     "clock",
     "context",
     "create_node",
     "duration",
+    "exceptions",
+    "executors",
     "get_default_context",
+    "get_global_executor",
     "init",
     "logging",
     "node",
     "ok",
+    "parameter",
+    "qos",
     "shutdown",
     "spin",
     "spin_once",
     "spin_until_future_complete",
+    "task",
     "time",
+    "timer",
     "try_shutdown",
+    "utilities",
 ]
 
 
@@ -78,30 +107,56 @@ def create_node(
     *,
     context: Context | None = None,
     namespace: str | None = None,
-    **options: object,
+    **options: Any,
 ) -> Node:
     """A new :class:`~baobab.nav.ros.rclpy.node.Node`, as ``rclpy.create_node`` makes one."""
     return Node(node_name, context=context, namespace=namespace, **options)
 
 
-def spin_once(node: Node, *, executor: object = None, timeout_sec: float | None = None) -> None:
-    """Run the node's per-spin work once (nothing for a plain node)."""
+def get_global_executor(*, context: Context | None = None) -> Executor:
+    """The executor ``rclpy.spin`` and friends use (one per context)."""
+    chosen = get_default_context() if context is None else context
+    if chosen.executor is None:
+        chosen.executor = SingleThreadedExecutor(context=chosen)
+    executor: Executor = chosen.executor
+    return executor
+
+
+def _executor_for(node: Node, executor: Executor | None) -> Executor:
+    chosen = get_global_executor(context=node.context) if executor is None else executor
+    chosen.add_node(node)
+    return chosen
+
+
+def spin_once(
+    node: Node, *, executor: Executor | None = None, timeout_sec: float | None = None
+) -> None:
+    """Run at most one of the node's ready callbacks, waiting up to ``timeout_sec`` for one.
+
+    Outside a run: run one ready callback if there is one, then the node's per-spin step (a
+    navigator advances its simulation by up to ``timeout_sec``).
+    """
+    chosen = _executor_for(node, executor)
+    if waiting.can_wait():
+        chosen.spin_once(timeout_sec=timeout_sec)
+        return
+    chosen.spin_once(timeout_sec=0)
     node._spin_once(timeout_sec)
 
 
-def spin(node: Node, executor: object = None) -> NoReturn:
-    """Not supported: it would wait forever for ROS callbacks."""
-    raise UnsupportedRosFeatureError(
-        "rclpy.spin() is not supported: it waits for ROS callbacks and baobab runs no ROS "
-        "graph; poll navigator.isTaskComplete() in a loop instead"
-    )
+def spin(node: Node, executor: Executor | None = None) -> None:
+    """Run the node's callbacks until the context shuts down (or the run ends).
+
+    Raises:
+        UnsupportedRosFeatureError: outside a run, where nothing would ever wake it.
+    """
+    if not waiting.can_wait():
+        waiting.wait(None, None, what="rclpy.spin()")
+    _executor_for(node, executor).spin()
 
 
 def spin_until_future_complete(
-    node: Node, future: object, executor: object = None, timeout_sec: float | None = None
-) -> NoReturn:
-    """Not supported: baobab has no ROS futures."""
-    raise UnsupportedRosFeatureError(
-        "rclpy.spin_until_future_complete() is not supported: baobab has no ROS futures; "
-        "the navigator's methods block or poll by themselves"
-    )
+    node: Node, future: Future, executor: Executor | None = None, timeout_sec: float | None = None
+) -> None:
+    """Run the node's callbacks until ``future`` is done or ``timeout_sec`` has passed."""
+    _executor_for(node, executor).spin_until_future_complete(future, timeout_sec)

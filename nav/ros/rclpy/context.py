@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+import sys
 import weakref
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
 from types import TracebackType
-from typing import Protocol
+from typing import Any, Protocol
+
+from baobab.nav.ros import waiting
+from baobab.nav.ros.arguments import RosArguments, parse_ros_arguments
+from baobab.nav.ros.graph import Graph
 
 
 class TrackedNode(Protocol):
@@ -15,6 +20,10 @@ class TrackedNode(Protocol):
 
     def destroy_node(self) -> None:
         """Release the node."""
+        ...
+
+    def get_name(self) -> str:
+        """The node's name."""
         ...
 
 
@@ -30,6 +39,22 @@ class Context:
         self._shut_down = False
         self._nodes: list[weakref.ref[TrackedNode]] = []
         self._callbacks: list[Callable[[], None]] = []
+        self.arguments = RosArguments()
+        """What the ``--ros-args`` sections of ``init(args=...)`` said."""
+        self.executor: Any = None
+        """The executor ``rclpy.spin`` uses for this context (made on first use)."""
+        self._own_graph: Graph | None = None
+
+    @property
+    def graph(self) -> Graph:
+        """The topics nodes of this context use: the run's graph, or one of the context's own
+        outside a run (a Nav2 script's nodes talk among themselves)."""
+        shared = waiting.run_graph()
+        if shared is not None:
+            return shared
+        if self._own_graph is None:
+            self._own_graph = Graph()
+        return self._own_graph
 
     def init(
         self,
@@ -38,15 +63,18 @@ class Context:
         initialize_logging: bool = True,
         domain_id: int | None = None,
     ) -> None:
-        """Start the lifecycle; ``args`` and the other options are accepted and ignored.
+        """Start the lifecycle, reading the ``--ros-args`` sections of ``args`` (``sys.argv``
+        when None); the other options are accepted and ignored.
 
         Raises:
             RuntimeError: the context was initialised before (rclpy's error).
+            RosArgumentError: a ``--ros-args`` rule that cannot be read.
         """
         if domain_id is not None and domain_id < 0:
             raise RuntimeError(f"Domain id ({domain_id}) should not be lower than zero.")
         if self._initialized:
             raise RuntimeError("Context.init() must only be called once")
+        self.arguments = parse_ros_arguments(sys.argv[1:] if args is None else list(args))
         self._initialized = True
 
     def ok(self) -> bool:
@@ -97,6 +125,10 @@ class Context:
         self._nodes = [reference for reference in self._nodes if reference() is not None]
         self._nodes.append(weakref.ref(node))
 
+    def node_names(self) -> list[str]:
+        """The names of the context's live nodes, in creation order."""
+        return [node.get_name() for ref in self._nodes if (node := ref()) is not None]
+
     def untrack_node(self, node: TrackedNode) -> None:
         """Forget ``node`` (it was destroyed on its own)."""
         self._nodes = [ref for ref in self._nodes if ref() is not None and ref() is not node]
@@ -142,3 +174,11 @@ def fresh_default_context() -> Iterator[Context]:
         yield context
     finally:
         _default_context.reset(token)
+
+
+def set_fresh_default_context() -> Context:
+    """Give the current ``contextvars`` context a brand-new default context (until it ends):
+    each node file of a run gets its own, so each can call ``rclpy.init()``."""
+    context = Context()
+    _default_context.set(context)
+    return context

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import sys
 from enum import IntEnum
+from typing import Any
 
 from baobab.nav.rostime import S_TO_NS, sim_time_ns
 
@@ -29,6 +30,7 @@ class RcutilsLogger:
     def __init__(self, name: str = "") -> None:
         self.name = name
         self._level = LoggingSeverity.INFO
+        self._call_sites: dict[tuple[str, int], list[int]] = {}
 
     def get_child(self, name: str) -> RcutilsLogger:
         """The logger ``<this name>.<name>``, starting at this logger's level."""
@@ -48,38 +50,64 @@ class RcutilsLogger:
         """True when a message of ``severity`` would be printed."""
         return severity >= self._level
 
-    def log(self, message: object, severity: LoggingSeverity | int) -> bool:
-        """Print ``message`` at ``severity``; True when it was printed."""
+    def log(
+        self,
+        message: object,
+        severity: LoggingSeverity | int,
+        *,
+        throttle_duration_sec: float | None = None,
+        throttle_time_source_type: object = None,
+        once: bool = False,
+        skip_first: bool = False,
+        name: str | None = None,
+    ) -> bool:
+        """Print ``message`` at ``severity``; True when it was printed.
+
+        ``once`` prints only the first call from this line of code, ``skip_first`` all but
+        the first, ``throttle_duration_sec`` at most once per that many seconds of sim time.
+        """
         if not self.is_enabled_for(severity):
             return False
-        seconds, nanoseconds = divmod(sim_time_ns(), S_TO_NS)
+        now = sim_time_ns()
+        if once or skip_first or throttle_duration_sec:
+            frame = sys._getframe(2)
+            site = self._call_sites.setdefault((frame.f_code.co_filename, frame.f_lineno), [])
+            calls = len(site)
+            if (once and calls) or (skip_first and not calls):
+                site.append(now)
+                return False
+            if throttle_duration_sec and site and now - site[-1] < throttle_duration_sec * S_TO_NS:
+                return False
+            site.append(now)
+        seconds, nanoseconds = divmod(now, S_TO_NS)
         label = LoggingSeverity(severity).name
-        print(f"[{label}] [{seconds}.{nanoseconds:09d}] [{self.name}]: {message}", file=sys.stderr)
+        shown = self.name if name is None else name
+        print(f"[{label}] [{seconds}.{nanoseconds:09d}] [{shown}]: {message}", file=sys.stderr)
         return True
 
-    def debug(self, message: object) -> bool:
+    def debug(self, message: object, **kwargs: Any) -> bool:
         """Log at DEBUG."""
-        return self.log(message, LoggingSeverity.DEBUG)
+        return self.log(message, LoggingSeverity.DEBUG, **kwargs)
 
-    def info(self, message: object) -> bool:
+    def info(self, message: object, **kwargs: Any) -> bool:
         """Log at INFO."""
-        return self.log(message, LoggingSeverity.INFO)
+        return self.log(message, LoggingSeverity.INFO, **kwargs)
 
-    def warning(self, message: object) -> bool:
+    def warning(self, message: object, **kwargs: Any) -> bool:
         """Log at WARN."""
-        return self.log(message, LoggingSeverity.WARN)
+        return self.log(message, LoggingSeverity.WARN, **kwargs)
 
-    def warn(self, message: object) -> bool:
+    def warn(self, message: object, **kwargs: Any) -> bool:
         """Log at WARN (rclpy's older spelling)."""
-        return self.log(message, LoggingSeverity.WARN)
+        return self.log(message, LoggingSeverity.WARN, **kwargs)
 
-    def error(self, message: object) -> bool:
+    def error(self, message: object, **kwargs: Any) -> bool:
         """Log at ERROR."""
-        return self.log(message, LoggingSeverity.ERROR)
+        return self.log(message, LoggingSeverity.ERROR, **kwargs)
 
-    def fatal(self, message: object) -> bool:
+    def fatal(self, message: object, **kwargs: Any) -> bool:
         """Log at FATAL."""
-        return self.log(message, LoggingSeverity.FATAL)
+        return self.log(message, LoggingSeverity.FATAL, **kwargs)
 
 
 def get_logger(name: str) -> RcutilsLogger:

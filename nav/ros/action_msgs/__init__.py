@@ -1,0 +1,1 @@
+"""The ``action_msgs`` package, served by baobab."""

@@ -1,0 +1,1 @@
+"""The ``geographic_msgs`` package, served by baobab."""

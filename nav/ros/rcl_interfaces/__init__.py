@@ -1,0 +1,1 @@
+"""The ``rcl_interfaces`` package, served by baobab."""

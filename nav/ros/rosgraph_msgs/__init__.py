@@ -1,0 +1,1 @@
+"""The ``rosgraph_msgs`` package, served by baobab."""

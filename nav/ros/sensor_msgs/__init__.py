@@ -1,0 +1,1 @@
+"""The ``sensor_msgs`` package, served by baobab."""

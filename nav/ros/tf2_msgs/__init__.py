@@ -1,0 +1,1 @@
+"""The ``tf2_msgs`` package, served by baobab."""

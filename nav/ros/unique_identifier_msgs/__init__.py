@@ -1,0 +1,1 @@
+"""The ``unique_identifier_msgs`` package, served by baobab."""

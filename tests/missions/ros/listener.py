@@ -1,0 +1,29 @@
+import rclpy
+from rclpy.node import Node
+from std_msgs.msg import String
+
+
+class MinimalSubscriber(Node):
+    def __init__(self):
+        super().__init__("minimal_subscriber")
+        self.declare_parameter("topic_name", "chatter")
+        topic_name = self.get_parameter("topic_name").value
+        self.subscription = self.create_subscription(String, topic_name, self.listener_callback, 10)
+
+    def listener_callback(self, msg):
+        self.get_logger().info(f'I heard: "{msg.data}"')
+
+
+def main(args=None):
+    rclpy.init(args=args)
+    minimal_subscriber = MinimalSubscriber()
+    try:
+        rclpy.spin(minimal_subscriber)
+    except KeyboardInterrupt:
+        pass
+    minimal_subscriber.destroy_node()
+    rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()
