@@ -192,6 +192,21 @@ def planner_figures(queries: int = 200, seed: int = 0) -> list[Figure]:
     return figures
 
 
+def get_path_figures() -> list[Figure]:
+    """Issue 28: ``BasicNavigator.getPath`` for the 16.2 m cafe query, median (ms)."""
+    report = _script_report("bench_get_path.py", quiet=True)
+    return [
+        Figure(
+            f"getPath cafe kitchen -> table_3 ({report['path_length_m']:.1f} m), median",
+            report["median_ms"]["getPath"],
+            "ms",
+            2.0,
+            False,
+            "python bench/bench_get_path.py",
+        )
+    ]
+
+
 def startup_figures(repeats: int = 3) -> list[Figure]:
     """Figure 4: process start to the first tree tick; `baobab validate` of every mission.
 
@@ -468,6 +483,7 @@ def test_suite_figures() -> list[Figure]:
 SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "missions": mission_figures,
     "planner": planner_figures,
+    "getpath": get_path_figures,
     "startup": startup_figures,
     "arm": arm_figures,
     "memory": memory_figures,
