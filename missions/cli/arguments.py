@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 from baobab.sim.errors import BaobabError, clip
 
 if TYPE_CHECKING:
+    from baobab.robots.footprint import Footprint
     from baobab.sim.world import Pose2D, World
 
 
@@ -26,6 +27,15 @@ def add_set(parser: argparse.ArgumentParser) -> None:
         type=_assignment,
         metavar="KEY=VALUE",
         help="override a mission parameter (repeatable)",
+    )
+
+
+def add_robot(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--robot NAME_OR_PATH``: a bundled robot or a robot file (``what`` it replaces)."""
+    parser.add_argument(
+        "--robot",
+        metavar="NAME_OR_PATH",
+        help=f"a bundled robot (see baobab list) or a robot YAML file, instead of {what}",
     )
 
 
@@ -95,8 +105,9 @@ def add_start(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def start_pose(text: str | None, world: World) -> Pose2D:
-    """The pose of ``--start X,Y[,YAW]`` (m, m, rad), checked to be free in ``world``.
+def start_pose(text: str | None, world: World, footprint: Footprint) -> Pose2D:
+    """The pose of ``--start X,Y[,YAW]`` (m, m, rad), checked to be free for ``footprint`` in
+    ``world``.
 
     Without ``--start`` (None): the world's default spawn, or on a map without one its origin
     (as ``BasicNavigator``), checked the same way.
@@ -105,14 +116,12 @@ def start_pose(text: str | None, world: World) -> Pose2D:
         BaobabError: not two or three finite numbers, or a pose the robot cannot stand on.
     """
     from baobab.nav.navigator_robot import NavigatorSetupError, check_free, default_start
-    from baobab.robots.turtlebot3 import BURGER
     from baobab.sim.world import Pose2D
 
-    radius = BURGER.footprint_radius
     if text is None:
         what = "the default spawn" if "default" in world.spawns else "the map origin"
         try:
-            pose = default_start(world, radius)
+            pose = default_start(world, footprint)
         except NavigatorSetupError as exc:
             raise BaobabError(str(exc)) from None
     else:
@@ -126,7 +135,7 @@ def start_pose(text: str | None, world: World) -> Pose2D:
         pose = Pose2D(x=values[0], y=values[1], yaw=values[2] if len(values) == 3 else 0.0)
         what = "--start"
     try:
-        check_free(world, pose, radius, what=what)
+        check_free(world, pose, footprint, what=what)
     except NavigatorSetupError as exc:
         raise BaobabError(str(exc)) from None
     return pose

@@ -25,7 +25,7 @@ import numpy as np
 
 from baobab.missions.run.metrics import MetricRegistry
 from baobab.missions.run.plot_data import ZoneImage
-from baobab.robots.turtlebot3.base import DiffDriveBase
+from baobab.robots.diff_drive.base import DiffDriveBase
 from baobab.sim.map_geometry import signed_distance_to_cells
 from baobab.sim.map_image import OCCUPIED
 from baobab.sim.simulation import Simulation
