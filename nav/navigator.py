@@ -303,8 +303,9 @@ class BasicNavigator(NavigatorExternal):
         pose = self._rig.base.pose()
         try:
             footprint = self._rig.footprint
-            free = pose_is_free(world, pose, footprint)
-            start = pose if free else default_start(world, footprint)
+            start = (
+                pose if pose_is_free(world, pose, footprint) else default_start(world, footprint)
+            )
         except NavigatorSetupError as exc:
             self.error(f"Change map request failed: {exc}")
             self._set_task_error((int(LoadMapResult.RESULT_UNDEFINED_FAILURE), str(exc)))

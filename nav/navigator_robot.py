@@ -202,7 +202,7 @@ def default_start(world: World, footprint: Footprint) -> Pose2D:
     one the map frame's origin (where Nav2's AMCL starts its estimate, ``initial_pose`` 0, 0, 0).
 
     Raises:
-        NavigatorSetupError: a map without a spawn whose origin is not free for ``footprint``.
+        NavigatorSetupError: a map without a spawn whose origin is not free.
     """
     spawn = world.spawns.get("default")
     if spawn is not None:
@@ -211,9 +211,9 @@ def default_start(world: World, footprint: Footprint) -> Pose2D:
     name, clearance = footprint.clearance_in(world, origin)
     if clearance < 0.0:
         raise NavigatorSetupError(
-            f"world '{world.name}' has no spawn and the map origin (0, 0) is not free (the "
-            f"robot's footprint reaches {-clearance:.3f} m into '{name}'); give a start pose "
-            "(start=Pose2D(...), --start X,Y,YAW, a mission's start:)"
+            f"world '{world.name}' has no spawn and the map origin (0, 0) is not free for the "
+            f"robot's footprint ('{name}' is in the way); give a start pose (start=Pose2D(...), "
+            "--start X,Y,YAW, a mission's start:)"
         )
     return origin
 

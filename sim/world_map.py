@@ -36,7 +36,7 @@ if TYPE_CHECKING:  # numpy and Pillow load only when a world has a map
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 
 DEFAULT_WALL_HEIGHT = 1.0
-"""Height (m) of the boxes a map's solid cells become: well above a TurtleBot's lidar."""
+"""Height (m) of the boxes a map's solid cells become: well above a mobile robot's lidar."""
 
 KEEPOUT: Literal[0] = 0
 """``CostmapFilterInfo.type`` of a keepout filter."""

@@ -105,6 +105,21 @@ def add_start(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def robot_footprint(robot: str | None) -> Footprint:
+    """The footprint of the robot ``--robot`` names (the default mobile robot's without it).
+
+    Raises:
+        BaobabError: an unknown or fixed robot.
+        RobotFileError: a robot file that cannot be used (located).
+    """
+    from baobab.nav.navigator_robot import NavigatorSetupError, navigator_robot
+
+    try:
+        return navigator_robot(robot).mobile_facts.footprint
+    except NavigatorSetupError as exc:
+        raise BaobabError(f"--robot: {exc}") from None
+
+
 def start_pose(text: str | None, world: World, footprint: Footprint) -> Pose2D:
     """The pose of ``--start X,Y[,YAW]`` (m, m, rad), checked to be free for ``footprint`` in
     ``world``.

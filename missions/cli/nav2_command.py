@@ -4,11 +4,11 @@
 Runs a Nav2 Simple Commander script as it is (:func:`baobab.nav.script_runner.run_nav2_script`):
 its ``BasicNavigator()`` builds the given world (a bundled name, a world file or a map_server
 map YAML) with ``--robot`` (a bundled mobile robot or a robot file; default: the registry's
-default mobile robot) at ``--start`` (default: the world's spawn; on a map without one, the
-map origin), seeded with ``--seed``, paced to the wall clock with ``--realtime``. The script's
-output and exit status pass through unchanged. A mistake in the arguments (an unknown world or
-robot, a robot file that cannot be used, a malformed or blocked start pose, a negative seed)
-exits 2 with one line on standard error before the script runs.
+default mobile robot) at ``--start`` (default: the world's spawn; on a map without one, the map
+origin), seeded with ``--seed``, paced to the wall clock with ``--realtime``. The script's output
+and exit status pass through unchanged. A mistake in the arguments (an unknown world or robot,
+a robot file that cannot be used, a malformed or blocked start pose, a negative seed) exits 2
+with one line on standard error before the script runs.
 """
 
 from __future__ import annotations
@@ -16,9 +16,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from baobab.missions.cli.arguments import add_start, start_pose
+from baobab.missions.cli.arguments import add_start, robot_footprint, start_pose
 from baobab.missions.run.exit_codes import EXIT_INVALID
-from baobab.robots.footprint import Footprint
 from baobab.sim.errors import BaobabError, clip, one_line
 from baobab.sim.world import load_world
 
@@ -55,13 +54,13 @@ def nav2_command(args: argparse.Namespace) -> int:
 
     check_script(Path(args.script))  # a ScriptError is located: main() prints it, exits 2
     world = load_world(args.world)  # a WorldError is located: main() prints it, exits 2
+    footprint = robot_footprint(args.robot)  # a RobotFileError is located too
+    start = start_pose(args.start, world, footprint)  # the default one is checked too (exit 2)
     try:
-        footprint = robot_footprint(args.robot)  # a RobotFileError is located too
         seed = parse_seed(args.seed)
     except Nav2ArgumentError as exc:
         print(one_line(f"baobab nav2: {exc}"), file=sys.stderr)
         return EXIT_INVALID
-    start = start_pose(args.start, world, footprint)  # the default one is checked too (exit 2)
     given = start if args.start is not None else None  # else the navigator's own default
     defaults = {
         "world": args.world,
@@ -71,21 +70,6 @@ def nav2_command(args: argparse.Namespace) -> int:
         "realtime": args.realtime,
     }
     return run_nav2_script(args.script, navigator_defaults=defaults)
-
-
-def robot_footprint(robot: str | None) -> Footprint:
-    """The footprint of the robot ``--robot`` names (the default mobile robot's without it).
-
-    Raises:
-        Nav2ArgumentError: an unknown or fixed robot.
-        RobotFileError: a robot file that cannot be used (located).
-    """
-    from baobab.nav.navigator_robot import NavigatorSetupError, navigator_robot
-
-    try:
-        return navigator_robot(robot).mobile_facts.footprint
-    except NavigatorSetupError as exc:
-        raise Nav2ArgumentError(f"--robot: {exc}") from None
 
 
 def parse_seed(text: str) -> int:

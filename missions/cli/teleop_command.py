@@ -7,9 +7,9 @@ with its navigation server running one assisted teleop session without a time li
 collision projection slows it down near obstacles and stops it before them
 (:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the keyboard teleop's mapping
 (:mod:`baobab.robots.diff_drive.teleop`: WASD or ZQSD, the seed's 0.25 m/s and 1.2 rad/s within
-the robot's limits) with the terminal rules of :mod:`baobab.robots.diff_drive.teleop_terminal` (a
-press holds for 0.4 s, space stops, ``q`` quits). The simulation is paced to the wall clock, the
-one place where that is right, and a
+the robot's limits) with the terminal rules of :mod:`baobab.robots.diff_drive.teleop_terminal`
+(a press holds for 0.4 s, space stops, ``q`` quits). The simulation is paced to the wall clock,
+the one place where that is right, and a
 status line shows the pose, the nearest obstacle and the scaling assisted teleop applies.
 
 :class:`TeleopSession` is the terminal-free part (keys in, sim advanced, status out);
@@ -265,9 +265,9 @@ def teleop_command(args: argparse.Namespace) -> int:
         NavigatorSetupError: an unknown or fixed robot (exit 2).
         BaobabError: a malformed start, or one not free for the robot (exit 2).
     """
-    world = load_world(args.world)
     from baobab.nav.navigator_robot import navigator_robot
 
+    world = load_world(args.world)
     robot = navigator_robot(args.robot)
     start = start_pose(args.start, world, robot.mobile_facts.footprint)
     stdin = sys.stdin

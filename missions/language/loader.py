@@ -173,8 +173,16 @@ class _Loader:
         data = self._top_level()
         specs = self._params(data.get("params", {}))
         values = resolve_values(specs, overrides, self.document)
-        keys = ("mission", "world", "robot", "robots", "seed", "params", "locations", "filters")
-        for key in keys:
+        for key in (
+            "mission",
+            "world",
+            "robot",
+            "robots",
+            "seed",
+            "params",
+            "locations",
+            "filters",
+        ):
             if key in data:
                 check_no_placeholders(self.document, data[key], (key,))
         substitution = Substitution(

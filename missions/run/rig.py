@@ -314,8 +314,8 @@ class MobileRig:
             hit_points=list(bug2.hit_points) if bug2 else [],
             leave_points=list(bug2.leave_points) if bug2 else [],
             min_clearance_at=None if clearance_at is None else clearance_at[1:],
-            zones=self.zones.zone_images(),
             footprints=[self._footprint_at(*probe.start), self._footprint_at(*self._pose())],
+            zones=self.zones.zone_images(),
         )
         self._navigation_layers(plot)
         return plot

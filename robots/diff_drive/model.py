@@ -253,8 +253,8 @@ def attach_robot(
 ) -> DiffDriveNames:
     """Attach the stand-alone ``robot`` spec to the world ``spec`` with ``base_link`` at
     ``pose`` (map frame), every name prefixed with ``prefix``, and one contact sensor per
-    obstacle geom of the world (a map's walls share two: :attr:`DiffDriveNames.map_contact_
-    sensors`); the returned object spells the names."""
+    obstacle geom of the world (two for all of a map's walls); the returned object spells the
+    names."""
     frame = spec.worldbody.add_frame(pos=[pose.x, pose.y, 0.0], quat=wxyz_about_z(pose.yaw))
     obstacles = [geom for geom in spec.geoms if geom.group in OBSTACLE_GROUPS]
     named = [geom.name for geom in obstacles if geom.material != MAP_WALL_MATERIAL]
