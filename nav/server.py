@@ -123,13 +123,9 @@ class NavigationServer:
             static,
             keepout_filter(world, static, p.global_costmap.inflation, p.keepout),
         )
+        local_keepout = keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout)
         self.local_layers = LayeredCostmap.local_costmap(
-            world,
-            base.pose(),
-            p.local_costmap,
-            p.local_costmap_size,
-            local_static,
-            keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout),
+            world, base.pose(), p.local_costmap, p.local_costmap_size, local_static, local_keepout
         )
         self.speed_filter = speed_filter(world)
         self.planner = GlobalPlanner(p.planner, p.smoother)
