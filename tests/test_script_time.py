@@ -72,7 +72,7 @@ time.sleep(0)
 print(round(sim() - before, 6), round(time.time() - wall, 6), round(time.monotonic() - steady, 6))
 ns = time.monotonic_ns()
 time.sleep(1.5)
-print(time.monotonic_ns() - ns, round(time.time_ns() / 1e9 - time.time(), 3))
+print(time.monotonic_ns() - ns, round(abs(time.time_ns() / 1e9 - time.time()), 3))
 try:
     time.sleep(-1)
 except ValueError as exc:
