@@ -195,6 +195,32 @@ def test_the_outline_cost_is_the_highest_cell_it_crosses_at_the_pose_yaw() -> No
     assert hits.tolist() == [False, True]
 
 
+@pytest.mark.parametrize(
+    ("footprint", "collides"), [(WAFFLE, True), (Footprint.circle(0.0765), False)]
+)
+def test_the_controller_projects_the_outline_past_an_obstacle_beside_the_path(
+    footprint: Footprint, collides: bool
+) -> None:
+    from baobab.nav.errors import CollisionAheadError
+    from baobab.nav.path import Path as NavPath
+    from baobab.nav.pure_pursuit import RegulatedPurePursuit
+
+    # Lethal cells 0.10-0.20 m beside a straight path, 0.2-0.5 m ahead: inside the Waffle's
+    # side (0.153 m from base_link), clear of a circle of its inscribed radius.
+    costmap = Costmap2D(40, 40, 0.05, origin=(-1.0, -1.0), footprint=footprint)
+    costmap.data[22:24, 24:30] = LETHAL_OBSTACLE  # rows: y 0.10-0.20 m; columns: x 0.2-0.5 m
+    xs = np.linspace(0.0, 0.9, 19)
+    path = NavPath.from_points(np.column_stack([xs, np.zeros_like(xs)]), 0.0)
+    pose = Pose2D(x=0.0, y=0.0, yaw=0.0)
+    controller = RegulatedPurePursuit()
+    if collides:
+        with pytest.raises(CollisionAheadError):
+            controller.compute_velocity(pose, (0.22, 0.0), path, costmap)
+    else:
+        linear, _ = controller.compute_velocity(pose, (0.22, 0.0), path, costmap)
+        assert linear > 0.2
+
+
 def test_assisted_teleop_measures_the_polygon_to_the_wall() -> None:
     costmap = _wall_costmap()
     poses = np.array([[0.2, 0.0, 0.0], [0.35, 0.0, math.pi]])
