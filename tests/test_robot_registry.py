@@ -36,10 +36,7 @@ REGISTRY = (
     "robots/catalog.py",
     "robots/__init__.py",  # the package's map of its folders
 )
-ROBOT_FOLDERS = (
-    *(f"robots/{folder}/" for folder in catalog.ROBOT_FOLDERS),
-    "missions/ros/",  # bundled node files: user code a mission runs, as its YAML names a robot
-)
+ROBOT_FOLDERS = tuple(f"robots/{folder}/" for folder in catalog.ROBOT_FOLDERS)
 
 
 def _robot_words() -> re.Pattern[str]:
