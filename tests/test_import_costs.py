@@ -178,7 +178,7 @@ def test_a_mobile_run_reaches_its_first_tick_without_arm_or_display_modules(
         "def first_tick(self, snapshot):\n"
         "    print(json.dumps(sorted(sys.modules)), flush=True)\n"
         "    raise SystemExit(0)\n"
-        "progress.LineProgress.due = first_tick\n"
+        "progress.LineSchedule.due = first_tick\n"
         "from baobab.missions.cli.command_line import main\n"
         f"main(['run', {mission!r}, '--out', {str(tmp_path / 'run')!r}])\n"
         "raise SystemExit('the mission never ticked')\n"

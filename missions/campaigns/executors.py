@@ -184,8 +184,9 @@ def _init_local_worker(stop: Event) -> None:
 
 
 def preload_modules(mission: Mission) -> list[str]:
-    """The modules a run of ``mission`` imports, for the forkserver to import once."""
-    modules = [__name__]
+    """The modules a run of ``mission`` imports, for the forkserver to import once (and numba's
+    compiler with the control dispatcher, :mod:`.worker_preload`)."""
+    modules = [__name__, "baobab.missions.campaigns.worker_preload"]
     robot = mission.robot
     if robot.mobile:
         modules.append("baobab.robots.diff_drive.robot")

@@ -14,5 +14,6 @@
 - :mod:`.recording_hook`: ``--record``/``--live``/``--video``/``--btlog``/``--viewer``
   (:mod:`.recording_streams`, :mod:`.recording_topics`, :mod:`.video_caption`).
 - :mod:`.progress_display`: the terminal's live progress and summary;
-  :mod:`.child_process`: a run in a forked process.
+  :mod:`.child_process`: a run in a forked process; :mod:`.kernel_warmup`: the kernels
+  compiled ahead of time (the wheel's build runs it).
 """
