@@ -14,6 +14,8 @@ from pathlib import Path
 
 import pytest
 
+from baobab.robots.catalog import ENTRY_MODULE, ROBOT_FOLDERS
+
 REPO = Path(__file__).resolve().parents[1]
 ON_MAPS = ("office_patrol",)
 """Bundled missions on a map_server map: validating them reads the map's image (numpy, Pillow)
@@ -75,9 +77,20 @@ def _loaded(script: str) -> list[str]:
     return names
 
 
+REGISTRY_DATA = frozenset(
+    name
+    for folder in ROBOT_FOLDERS
+    for name in (f"baobab.robots.{folder}", f"baobab.robots.{folder}.{ENTRY_MODULE}")
+)
+"""A robot folder's package (lazy) and its registry entries: data the registry always loads."""
+
+
 def _matching(loaded: list[str], prefixes: tuple[str, ...]) -> list[str]:
     return sorted(
-        name for name in loaded if any(name == p or name.startswith(p + ".") for p in prefixes)
+        name
+        for name in loaded
+        if name not in REGISTRY_DATA
+        and any(name == p or name.startswith(p + ".") for p in prefixes)
     )
 
 

@@ -144,6 +144,36 @@ def test_spin_in_a_corridor_narrower_than_the_waffles_sweep(robot: str) -> None:
     assert abs(math.remainder(rig.pose().yaw - before.yaw, math.tau)) < 0.3
 
 
+def _wall_behind(gap: float) -> World:
+    """A wall whose face is ``gap`` m behind the spawn (facing +x)."""
+    return World(
+        name="wall_behind",
+        floor=Floor(size=(5.0, 3.0)),
+        boxes=[Box(name="wall_behind", center=(-gap - 0.05, 0.0), size=(0.1, 2.0))],
+        spawns={"default": Pose2D(x=0.0, y=0.0)},
+    )
+
+
+@pytest.mark.parametrize("robot", ["turtlebot3", "turtlebot3_waffle"])
+def test_back_up_checks_the_waffles_long_rear(robot: str) -> None:
+    # 0.3 m back toward a wall 0.45 m behind: the Burger's circle (0.105 m) ends 0.045 m
+    # short of it, the Waffle's rear (0.2045 m behind base_link) would end 0.055 m inside.
+    rig = make_rig(_wall_behind(0.45), robot_name=robot)
+    rig.sim.step_for(0.5)  # a scan or two in the costmaps
+    before = rig.pose()
+    handle = rig.server.back_up(0.3, 0.1, time_allowance=20.0)
+    rig.run(handle, limit=30.0)
+    assert not rig.contacts.touched
+    outcome = handle.outcome
+    assert outcome is not None
+    backed = before.x - rig.pose().x
+    if robot == "turtlebot3":
+        assert outcome.status is TaskStatus.SUCCEEDED and backed == pytest.approx(0.3, abs=0.03)
+        return
+    assert outcome.status is TaskStatus.FAILED and outcome.error_name == "COLLISION_AHEAD"
+    assert backed < 0.45 - 0.2045  # stopped with its rear short of the wall
+
+
 def _wall_costmap() -> Costmap2D:
     """A 2 m x 2 m costmap with a lethal wall along x = 0.5 m (cells from x = 0.5 on)."""
     costmap = Costmap2D(40, 40, 0.05, origin=(-1.0, -1.0), footprint=WAFFLE)
@@ -163,6 +193,32 @@ def test_the_outline_cost_is_the_highest_cell_it_crosses_at_the_pose_yaw() -> No
     assert unknown and off_grid < LETHAL_OBSTACLE
     hits = collision_mask(costmap, np.full(2, 0.35), np.zeros(2), yaws=np.array([0.0, math.pi]))
     assert hits.tolist() == [False, True]
+
+
+@pytest.mark.parametrize(
+    ("footprint", "collides"), [(WAFFLE, True), (Footprint.circle(0.0765), False)]
+)
+def test_the_controller_projects_the_outline_past_an_obstacle_beside_the_path(
+    footprint: Footprint, collides: bool
+) -> None:
+    from baobab.nav.errors import CollisionAheadError
+    from baobab.nav.path import Path as NavPath
+    from baobab.nav.pure_pursuit import RegulatedPurePursuit
+
+    # Lethal cells 0.10-0.20 m beside a straight path, 0.2-0.5 m ahead: inside the Waffle's
+    # side (0.153 m from base_link), clear of a circle of its inscribed radius.
+    costmap = Costmap2D(40, 40, 0.05, origin=(-1.0, -1.0), footprint=footprint)
+    costmap.data[22:24, 24:30] = LETHAL_OBSTACLE  # rows: y 0.10-0.20 m; columns: x 0.2-0.5 m
+    xs = np.linspace(0.0, 0.9, 19)
+    path = NavPath.from_points(np.column_stack([xs, np.zeros_like(xs)]), 0.0)
+    pose = Pose2D(x=0.0, y=0.0, yaw=0.0)
+    controller = RegulatedPurePursuit()
+    if collides:
+        with pytest.raises(CollisionAheadError):
+            controller.compute_velocity(pose, (0.22, 0.0), path, costmap)
+    else:
+        linear, _ = controller.compute_velocity(pose, (0.22, 0.0), path, costmap)
+        assert linear > 0.2
 
 
 def test_assisted_teleop_measures_the_polygon_to_the_wall() -> None:

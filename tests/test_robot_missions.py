@@ -8,7 +8,9 @@ the Burger: at least as fast as their top speeds say.
 
 from __future__ import annotations
 
+import itertools
 import json
+import math
 import sqlite3
 from importlib import resources
 from pathlib import Path
@@ -145,3 +147,27 @@ def test_a_campaign_varies_the_robot(tmp_path: Path, capsys: pytest.CaptureFixtu
     ]
     code, _, err = _run([*refused, "--out", str(tmp_path / "refused")], capsys)
     assert code == 2 and "fits turtlebot3, turtlebot4, not 'turtlebot3_waffle'" in err
+
+
+@pytest.mark.parametrize("robot", MOBILE_ROBOTS)
+def test_a_navigator_drives_each_robot_up_to_its_own_top_speed(robot: str) -> None:
+    from baobab.nav import BasicNavigator, TaskResult
+    from baobab.nav.msgs import pose_stamped
+
+    navigator = BasicNavigator(world="walls", robot=robot)
+    try:
+        navigator.goToPose(pose_stamped(2.0, 2.0, 0.0))
+        samples = []  # (sim time s, x m, y m) at each completion poll
+        while not navigator.isTaskComplete():
+            pose = navigator.robot_pose()
+            samples.append((navigator.get_clock().now().nanoseconds * 1e-9, pose.x, pose.y))
+        assert navigator.getResult() is TaskResult.SUCCEEDED
+    finally:
+        navigator.destroyNode()
+    speeds = [
+        math.hypot(x1 - x0, y1 - y0) / (t1 - t0)
+        for (t0, x0, y0), (t1, x1, y1) in itertools.pairwise(samples)
+        if t1 > t0
+    ]
+    v_max = ROBOTS[robot].max_linear_speed
+    assert max(speeds) == pytest.approx(v_max, rel=0.05), (robot, max(speeds))

@@ -4,6 +4,7 @@ decide (navigation, teleop, fault monitors), checked on the costmap and on real 
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import math
 import re
 from pathlib import Path
@@ -16,6 +17,7 @@ from baobab.nav.footprint import collision_mask
 from baobab.nav.layered_costmap import LayeredCostmap
 from baobab.nav.robot_params import navigation_params
 from baobab.nav.server import NavigationParams
+from baobab.robots import catalog
 from baobab.robots.catalog import (
     ALIASES,
     MOBILE_ROBOTS,
@@ -34,12 +36,7 @@ REGISTRY = (
     "robots/catalog.py",
     "robots/__init__.py",  # the package's map of its folders
 )
-ROBOT_FOLDERS = (
-    "robots/turtlebot3/",
-    "robots/turtlebot4/",
-    "robots/panda/",
-    "missions/ros/",  # bundled node files: user code a mission runs, as its YAML names a robot
-)
+ROBOT_FOLDERS = tuple(f"robots/{folder}/" for folder in catalog.ROBOT_FOLDERS)
 
 
 def _robot_words() -> re.Pattern[str]:
@@ -70,6 +67,22 @@ def test_the_grep_finds_a_robot_named_outside_its_folder(tmp_path: Path) -> None
     assert pattern.search("the Burger's radius")
     assert pattern.search("FAULT = 'panda/joint1'")
     assert not pattern.search("a differential-drive robot's footprint")
+
+
+def test_the_registry_is_each_robot_folders_entries() -> None:
+    assert catalog.ROBOT_FOLDERS == ("panda", "turtlebot3", "turtlebot4")
+    gathered = [
+        robot.name
+        for folder in catalog.ROBOT_FOLDERS
+        for robot in importlib.import_module(f"baobab.robots.{folder}.entry").ENTRIES
+    ]
+    assert sorted(gathered) == sorted(ROBOTS)  # each once, nothing else
+    assert list(ROBOTS)[: len(MOBILE_ROBOTS)] == list(MOBILE_ROBOTS)  # mobile robots first
+    assert ROBOTS[catalog.DEFAULT_MOBILE_ROBOT].mobile
+    # The registry's own code names no robot but the default one.
+    source = (REPO / "robots" / "catalog.py").read_text(encoding="utf-8")
+    named = {match.group(0) for match in _robot_words().finditer(source)}
+    assert named == {catalog.DEFAULT_MOBILE_ROBOT}, named
 
 
 def test_every_bundled_mobile_robot_has_the_published_figures() -> None:

@@ -231,6 +231,24 @@ def test_a_recorded_and_filmed_go_to_goal_run_is_the_same_run(
     assert records == [(0, 1, 1), (0, 2, 1), (end_us, 2, 2), (end_us, 1, 2)]
 
 
+def test_a_waffle_run_records_its_polygon_footprint_as_the_costmaps_use_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from baobab.robots.catalog import ROBOTS
+
+    path = mission_file(tmp_path, PAUSE.replace("turtlebot3", "turtlebot3_waffle"), "w.yaml")
+    mcap = tmp_path / "waffle.mcap"
+    code, result, _ = run_json(capsys, path, tmp_path / "run", "--record", str(mcap))
+    assert code == 0 and result["robot"] == "turtlebot3_waffle"
+    _, messages = read_mcap(mcap)
+    entities = {entity.id: entity for entity in messages["/robot/scene"][0][1].entities}
+    (outline,) = entities["footprint"].lines
+    drawn = {(round(p.x, 6), round(p.y, 6)) for p in outline.points}
+    padded = ROBOTS["turtlebot3_waffle"].tuning.footprint  # Nav2's padded footprint
+    assert drawn == {(round(x, 6), round(y, 6)) for x, y in padded.outline}
+    assert len(drawn) == 4 and max(abs(x) for x, _ in drawn) == pytest.approx(0.2045 + 0.01)
+
+
 def test_a_navigation_run_records_its_plans_and_costmap(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -5,7 +5,7 @@ heading controller and slows down while misaligned, until the goal is within
 ``goal_tolerance``. The robot pose comes from TF (``odom`` -> ``base_link``).
 
 Run it without ROS:
-    baobab ros run missions/ros/point2point_nav.py --world walls --robot turtlebot3 \\
+    baobab ros run missions/ros/point2point_nav.py --world walls \\
         --pub /goal geometry_msgs/msg/PoseStamped \\
         "{header: {frame_id: odom}, pose: {position: {x: 2.0, y: 2.0}}}" --at 1
 """
