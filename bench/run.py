@@ -6,6 +6,7 @@
     python bench/run.py --only robots    # cafe_delivery's real-time factor on each mobile robot
     python bench/run.py --only install --with-tests  # fresh clones, venvs and installs (long)
     python bench/run.py --only longrun badinputs     # optional sections, not in the default set
+    BAOBAB_PYROBOSIM_PYTHON=/path/to/venv/bin/python python bench/run.py --only pyrobosim
 
 Every figure names the mission it comes from. Ratios are taken against a baseline measured in
 the same run (bare MuJoCo stepping of the same model, a bare ``import mujoco``), so machine
@@ -580,6 +581,31 @@ def ros_figures() -> list[Figure]:
     ]
 
 
+def pyrobosim_figures() -> list[Figure]:
+    """Issue 28: the cafe round trip against pyrobosim at the Burger's speed and 20 Hz steps,
+    paired ratios of sim s per wall s over nine interleaved repetitions (pyrobosim from
+    ``BAOBAB_PYROBOSIM_PYTHON``; no figures, with a message, without it)."""
+    report = _script_report("bench_pyrobosim.py")
+    if "skipped" in report:
+        print(f"  pyrobosim: not measured ({report['skipped']})", file=sys.stderr)
+        return []
+    command = "python bench/bench_pyrobosim.py --pyrobosim-python PYTHON"
+    return [
+        Figure(
+            f"cafe round trip, baobab / pyrobosim {label} (paired ratio of sim s per wall s)",
+            report[f"paired_wall_ratio_vs_{variant}"]["median"],
+            "ratio",
+            5.0,
+            True,
+            command,
+        )
+        for variant, label in (
+            ("pyrobosim", "as shipped"),
+            ("pyrobosim_no_sleep", "without its end-of-path sleep"),
+        )
+    ]
+
+
 def script_sleep_figures() -> list[Figure]:
     """Issue 24: a Nav2 script sleeping 0.2 s per poll, against the same script without."""
     report = _script_report("bench_script_sleeps.py", quiet=True)
@@ -627,6 +653,7 @@ SECTIONS: dict[str, Callable[[], list[Figure]]] = {
 OPTIONAL_SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "longrun": longrun_figures,
     "badinputs": bad_input_figures,
+    "pyrobosim": pyrobosim_figures,
 }
 """Sections that take several minutes each: measured only when named with --only."""
 

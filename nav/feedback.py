@@ -100,16 +100,16 @@ def path_tracking(path: Path, closest: int, x: float, y: float, yaw: float) -> P
     Of the segments before and after pose ``closest`` (the pose nearest to the robot), the one
     nearer to the robot is used; a one-pose path counts as a segment along that pose's yaw.
     """
-    poses = path.poses
-    count = len(poses)
+    count = len(path)
     if count == 0:
         return PathTracking(0.0, 0.0, 0)
     closest = min(max(closest, 0), count - 1)
-    candidates = [i for i in (closest - 1, closest) if i >= 0 and i + 1 < count]
-    best: tuple[float, float, int] | None = None
-    for start in candidates:
-        ax, ay = float(poses[start, 0]), float(poses[start, 1])
-        dx, dy = float(poses[start + 1, 0]) - ax, float(poses[start + 1, 1]) - ay
+    first = max(closest - 1, 0)
+    rows = path.poses[first : closest + 2].tolist()  # the poses around closest, as floats
+    best: tuple[float, float, int, float, float] | None = None
+    for start in range(first, min(closest, count - 2) + 1):
+        (ax, ay, _), (bx, by, _) = rows[start - first], rows[start - first + 1]
+        dx, dy = bx - ax, by - ay
         length = math.hypot(dx, dy)
         if length < 1e-9:
             continue
@@ -117,13 +117,10 @@ def path_tracking(path: Path, closest: int, x: float, y: float, yaw: float) -> P
         gap = math.hypot(x - (ax + dx * along / length), y - (ay + dy * along / length))
         if best is None or gap < best[0]:
             cross = (dx * (y - ay) - dy * (x - ax)) / length
-            best = (gap, cross, start)
+            best = (gap, cross, start, dx, dy)
     if best is None:
-        ax, ay, heading = (float(value) for value in poses[closest])
+        ax, ay, heading = rows[closest - first]
         cross = math.cos(heading) * (y - ay) - math.sin(heading) * (x - ax)
         return PathTracking(cross, wrap_angle(heading - yaw), closest)
-    _, cross, start = best
-    heading = math.atan2(
-        float(poses[start + 1, 1] - poses[start, 1]), float(poses[start + 1, 0] - poses[start, 0])
-    )
-    return PathTracking(cross, wrap_angle(heading - yaw), start)
+    _, cross, start, dx, dy = best
+    return PathTracking(cross, wrap_angle(math.atan2(dy, dx) - yaw), start)

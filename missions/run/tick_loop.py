@@ -131,7 +131,8 @@ class RunLoop:
         self.timeout_step = math.ceil(timeout / self.sim.physics_dt - 1e-9)
         self.root = compiled.root
         self._behaviours = list(self.root.iterate())
-        self._statuses = {b.id: Status.INVALID for b in self._behaviours}
+        self._statuses = [Status.INVALID] * len(self._behaviours)
+        """The status each of ``_behaviours`` had at the last record (same order)."""
         self._goal_leaves = compiled.goal_leaves()
         self._handles: dict[uuid.UUID, tuple[TaskHandle | None, bool]] = {
             leaf.id: (None, False) for leaf in self._goal_leaves
@@ -282,10 +283,11 @@ class RunLoop:
             self.trace.add(now, "pose", **self.rig.state())
 
     def _record_tree(self, now: float) -> None:
-        for behaviour in self._behaviours:
+        statuses = self._statuses
+        for index, behaviour in enumerate(self._behaviours):
             status = behaviour.status
-            if self._statuses[behaviour.id] is not status:
-                self._statuses[behaviour.id] = status
+            if statuses[index] is not status:
+                statuses[index] = status
                 self.trace.add(
                     now,
                     "status",
