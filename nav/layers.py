@@ -88,7 +88,7 @@ class StaticLayer:
         off_x = (centres_x - half < x_min - _TOUCH_EPS) | (centres_x + half > x_max + _TOUCH_EPS)
         off_y = (centres_y - half < y_min - _TOUCH_EPS) | (centres_y + half > y_max + _TOUCH_EPS)
         self.raster[off_y[:, None] | off_x[None, :]] = LETHAL_OBSTACLE
-        for box in world.boxes:
+        for box in [*world.boxes, *world.dock_boxes]:
             self._rasterise_box(box)
         for cylinder in world.cylinders:
             self._rasterise_cylinder(cylinder)

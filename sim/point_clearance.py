@@ -32,7 +32,9 @@ def cylinder_distance_at(x: float, y: float, cylinder: Cylinder) -> float:
 
 
 def obstacle_distances_at(world: World, x: float, y: float) -> list[tuple[str, float]]:
-    """(name, signed distance (m)) to every static obstacle: boxes first, then cylinders."""
-    distances = [(box.name, box_distance_at(x, y, box)) for box in world.boxes]
+    """(name, signed distance (m)) to every static obstacle: boxes (the docks' parts last),
+    then cylinders."""
+    boxes = [*world.boxes, *world.dock_boxes]
+    distances = [(box.name, box_distance_at(x, y, box)) for box in boxes]
     distances += [(cyl.name, cylinder_distance_at(x, y, cyl)) for cyl in world.cylinders]
     return distances
