@@ -47,6 +47,8 @@ from baobab.nav.behaviors import (
 from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_updates import CostmapUpdates
+from baobab.nav.docking import DockingParams
+from baobab.nav.docking_server import RELOAD_DATABASE, DockingServer
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
 from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
@@ -79,6 +81,7 @@ class NavigationParams:
     behaviors: BehaviorParams = field(default_factory=BehaviorParams)
     navigator: NavigatorParams = field(default_factory=NavigatorParams)
     waypoint_loop_rate: float = 20.0
+    docking: DockingParams = field(default_factory=DockingParams)
 
 
 class NavigationServer:
@@ -134,10 +137,14 @@ class NavigationServer:
         self.metrics = NavigationMetrics()
         self.tasks = TaskSlot(base, self.follower, self._clock)
         self.action_servers: dict[str, ActionServer] = {}
-        """Servers of the Nav2 actions this server does not run, by action name (none yet)."""
+        """Servers of the Nav2 actions this server does not run itself, by action name:
+        ``dock_robot`` and ``undock_robot`` (:mod:`baobab.nav.docking_server`)."""
         self.services: dict[str, Callable[..., Any]] = {}
         """Nav2 services beyond the costmap ones, by name: ``collision_monitor/toggle``
         (``enable`` -> ``(success, message)``) when a collision monitor is plugged in."""
+        self.docking = DockingServer(self, lidar, world.docks, p.docking)
+        self.action_servers.update(self.docking.action_servers())
+        self.services[RELOAD_DATABASE] = self.docking.reload_database
         self._lidar = lidar
         self._last_pose = base.pose()
         if lidar is not None:
@@ -312,6 +319,14 @@ class NavigationServer:
         """End a running assisted teleop with success (``preempt_teleop``)."""
         self.teleop_input.preempt_requested = True
 
+    def dock_robot(self, dock_id: str, dock_pose: Pose2D | None, staging: bool) -> TaskHandle:
+        """Dock at the database's ``dock_id``, or at ``dock_pose`` (Nav2's DockRobot)."""
+        return self.docking.dock_robot(dock_id, dock_pose, navigate_to_staging_pose=staging)
+
+    def undock_robot(self) -> TaskHandle:
+        """Back out of the dock to its staging pose (Nav2's UndockRobot)."""
+        return self.docking.undock_robot()
+
     def cancel(self) -> None:
         """Cancel the running task, if any: CANCELED, robot commanded to stop at once."""
         self.tasks.cancel()
@@ -406,6 +421,7 @@ class NavigationServer:
     def close(self) -> None:
         """Cancel the running task and stop every callback and subscription."""
         self.cancel()
+        self.docking.close()
         for timer in self._timers:
             timer.cancel()
         if self._lidar is not None:

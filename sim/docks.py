@@ -51,9 +51,10 @@ Burger docked within Nav2's 5 cm ``docking_threshold`` stands 0 to 7.5 cm from i
 ends 3.5 cm ahead of its base)."""
 BAY_HALF_WIDTH = 0.135
 """Half the free width (m) between the side walls: 4.6 cm of room past a Burger's wheels."""
-CHARGING_CONTACT = (0.08, 0.25)
+CHARGING_CONTACT = (0.06, 0.25)
 """How close (m, rad) a robot's base must come to the dock pose for the charger's spring
-contacts to touch it."""
+contacts to touch it: a base within Nav2's 5 cm ``docking_threshold`` of a well detected dock
+does."""
 DOCK_COLOUR = (0.20, 0.22, 0.26, 1.0)
 
 
