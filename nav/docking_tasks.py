@@ -17,8 +17,9 @@ Docking (``opennav_docking``'s ``dockRobot``, reference/nav2_ros_facts.md §6):
 The failures of phases 3 and 4 are retried: the base backs out to the staging pose (RETRY) and
 approaches again, up to ``max_retries`` times, then the task fails with the last code. Undocking
 switches charging off and backs the base out to the staging pose of where it stands, within
-the undock tolerances and ``max_undocking_time``. A cancel or a preemption stops the base at
-once (:mod:`baobab.nav.task_slot`).
+the undock tolerances and ``max_undocking_time``; a base that is not docked has nothing to
+undock and succeeds at once (Nav2 logs "no need to undock"). A cancel or a preemption stops
+the base at once (:mod:`baobab.nav.task_slot`).
 """
 
 from __future__ import annotations
@@ -358,8 +359,9 @@ class UndockTask:
             context.params.docking_threshold
         )
         if context.charger.contact() is None and not near:
-            self.feedback[RESULT_KEY] = UndockRobot.Result(success=False)
-            return TaskOutcome(TaskStatus.FAILED, 0, "the robot is not docked: nothing to undock")
+            # Nav2 logs "no need to undock" and returns: nothing was to be done.
+            context.docked_type, context.docked_pose = "", None
+            return self._end(UndockRobotError.NONE, "the robot is not docked: nothing to undock")
         context.charger.enabled = False
         self._staging = staging_pose(here, context.params)
         return None

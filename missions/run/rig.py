@@ -28,6 +28,7 @@ from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, Plo
 from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
 from baobab.robots.turtlebot3.robot import TurtleBot3
 from baobab.sim.errors import BaobabError
+from baobab.sim.moving_object_motion import start_moving_objects
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
@@ -172,6 +173,14 @@ class ClearCountingPort:
         """The server's AssistedTeleop."""
         return self.server.assisted_teleop(time_allowance)
 
+    def dock_robot(self, dock_id: str, dock_pose: Pose2D | None, staging: bool) -> TaskHandle:
+        """The docking server's DockRobot."""
+        return self.server.dock_robot(dock_id, dock_pose, staging)
+
+    def undock_robot(self) -> TaskHandle:
+        """The docking server's UndockRobot."""
+        return self.server.undock_robot()
+
     def robot_pose(self) -> Pose2D:
         """The robot's map-frame pose."""
         return self.server.robot_pose()
@@ -191,6 +200,7 @@ class MobileRig:
         self.sim, self.robot = build_turtlebot3_sim(
             world, mission.start, seed=seed, lidar_noise_std=mission.noise.lidar_std
         )
+        self.moving_objects = start_moving_objects(self.sim, world)
         self.controllers = BaseControllerServer(self.sim, self.robot.base, self.robot.lidar)
         self.teleop: TeleopChannel | None = TeleopChannel()
         self.obstacles: ObstacleSlots | None = ObstacleSlots(self.sim)
