@@ -16,6 +16,7 @@ import numpy as np
 from baobab.nav import NavigationServer, build_navigation
 from baobab.robots.turtlebot3 import TurtleBot3, build_turtlebot3_sim
 from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP, movable_slot_name
+from baobab.sim.docks import Dock
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle, TaskStatus
 from baobab.sim.world import Box, Floor, Pose2D, World, load_world
@@ -135,4 +136,22 @@ def alcove() -> World:
         floor=Floor(size=(6.0, 4.0)),
         boxes=walls,
         spawns={"default": Pose2D(x=-0.6, y=0.0)},
+    )
+
+
+ROOM_DOCK = Dock(pose=(1.5, 0.5, 0.3))
+"""The charging dock of :func:`dock_room`: docked base at (1.5, 0.5), facing 0.3 rad."""
+
+
+def dock_room(start: Pose2D | None = None) -> World:
+    """A 6 m x 5 m room with the charging dock ``home`` (:data:`ROOM_DOCK`); the robot starts
+    at ``start``, by default on the dock's staging pose (0.7 m before it)."""
+    if start is None:
+        x, y = ROOM_DOCK.to_map(-0.7, 0.0)
+        start = Pose2D(x=x, y=y, yaw=ROOM_DOCK.yaw)
+    return World(
+        name="dock_room",
+        floor=Floor(size=(6.0, 5.0)),
+        spawns={"default": start},
+        docks={"home": ROOM_DOCK},
     )

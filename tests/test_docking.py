@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 from navigation_rig import NavRig, make_rig
@@ -217,3 +218,16 @@ def test_the_simple_commander_docks_by_id_and_by_pose_and_undocks() -> None:
         assert navigator.getTaskError()[0] == action.DockRobot.Result.DOCK_NOT_IN_DB
     finally:
         navigator.destroyNode()
+
+
+def test_reload_database_reads_a_nav2_dock_database_file(tmp_path: Path) -> None:
+    rig = make_rig(_world(_near_staging()))
+    reload = rig.server.services["docking_server/reload_database"]
+    good = tmp_path / "docks.yaml"
+    good.write_text("docks:\n  spare:\n    type: charging_dock\n    pose: [0.0, 1.0, 3.14]\n")
+    assert reload(str(good)) is True
+    assert list(rig.server.docking.database) == ["spare"]
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("docks:\n  broken: {type: charging_dock}\n")
+    assert reload(str(bad)) is False
+    assert list(rig.server.docking.database) == ["spare"]
