@@ -23,7 +23,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from baobab.sim.docks import visible_faces
 from baobab.sim.lidar import LaserScan
@@ -134,6 +133,8 @@ class DockDetector:
 
     def _refine(self, points: np.ndarray, start: Pose2D) -> tuple[Pose2D, tuple[int, float]] | None:
         """The fit from ``start`` and its quality (inliers, -RMS), or None if it fails."""
+        from scipy.optimize import least_squares  # ~0.2 s to import: only when docking
+
         p = self.params
         x, y, yaw = start.x, start.y, start.yaw
         for gate in (2 * p.inlier_distance, p.inlier_distance):

@@ -48,8 +48,8 @@ from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathF
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.docking import DockingParams
-from baobab.nav.docking_server import RELOAD_DATABASE, DockingServer
 from baobab.nav.errors import NavigationError, SmoothPathError
+from baobab.nav.following import FollowingParams
 from baobab.nav.footprint import collision_mask
 from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
@@ -57,6 +57,7 @@ from baobab.nav.layers import StaticLayer
 from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
 from baobab.nav.path import Path
 from baobab.nav.planner import GlobalPlanner, PlannerParams
+from baobab.nav.plugged_servers import PluggedServerTasks, plug_in
 from baobab.nav.smoother import SimpleSmoother
 from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
@@ -83,9 +84,10 @@ class NavigationParams:
     navigator: NavigatorParams = field(default_factory=NavigatorParams)
     waypoint_loop_rate: float = 20.0
     docking: DockingParams = field(default_factory=DockingParams)
+    following: FollowingParams = field(default_factory=FollowingParams)
 
 
-class NavigationServer:
+class NavigationServer(PluggedServerTasks):
     """Nav2-style navigation for one mobile base in a simulation.
 
     Args:
@@ -140,13 +142,11 @@ class NavigationServer:
         self.tasks = TaskSlot(base, self.follower, self._clock)
         self.action_servers: dict[str, ActionServer] = {}
         """Servers of the Nav2 actions this server does not run itself, by action name:
-        ``dock_robot`` and ``undock_robot`` (:mod:`baobab.nav.docking_server`)."""
+        docking and following (:mod:`baobab.nav.plugged_servers`)."""
         self.services: dict[str, Callable[..., Any]] = {}
         """Nav2 services beyond the costmap ones, by name: ``collision_monitor/toggle``
         (``enable`` -> ``(success, message)``) when a collision monitor is plugged in."""
-        self.docking = DockingServer(self, lidar, world.docks, p.docking)
-        self.action_servers.update(self.docking.action_servers())
-        self.services[RELOAD_DATABASE] = self.docking.reload_database
+        self.docking, self.following = plug_in(self, sim, lidar, world, p.docking, p.following)
         self._lidar = lidar
         self._last_pose = base.pose()
         if lidar is not None:
@@ -321,14 +321,6 @@ class NavigationServer:
         """End a running assisted teleop with success (``preempt_teleop``)."""
         self.teleop_input.preempt_requested = True
 
-    def dock_robot(self, dock_id: str, dock_pose: Pose2D | None, staging: bool) -> TaskHandle:
-        """Dock at the database's ``dock_id``, or at ``dock_pose`` (Nav2's DockRobot)."""
-        return self.docking.dock_robot(dock_id, dock_pose, navigate_to_staging_pose=staging)
-
-    def undock_robot(self) -> TaskHandle:
-        """Back out of the dock to its staging pose (Nav2's UndockRobot)."""
-        return self.docking.undock_robot()
-
     def cancel(self) -> None:
         """Cancel the running task, if any: CANCELED, robot commanded to stop at once."""
         self.tasks.cancel()
@@ -425,6 +417,7 @@ class NavigationServer:
         """Cancel the running task and stop every callback and subscription."""
         self.cancel()
         self.docking.close()
+        self.following.poses.close()
         for timer in self._timers:
             timer.cancel()
         if self._lidar is not None:

@@ -44,13 +44,14 @@ MAP_FRAMES = ("map", "odom")
 ``map``."""
 
 DOCK_HEIGHT = 0.25
-"""Height (m) of every part of a dock: the lidar's scan plane (0.18 m on a Burger) cuts it."""
+"""Height (m) of every part of a dock: a small robot's lidar scan plane (0.18 m) cuts it."""
 PLATE_FRONT = 0.06
 """Distance (m) from the dock pose to the back plate's front face, along the dock's yaw: a
-Burger docked within Nav2's 5 cm ``docking_threshold`` stands 0 to 7.5 cm from it (its chassis
-ends 3.5 cm ahead of its base)."""
+small robot docked within Nav2's 5 cm ``docking_threshold`` stands 0 to 7.5 cm from it (its
+chassis ends 3.5 cm ahead of its base)."""
 BAY_HALF_WIDTH = 0.135
-"""Half the free width (m) between the side walls: 4.6 cm of room past a Burger's wheels."""
+"""Half the free width (m) between the side walls: 4.6 cm of room past the wheels of a robot
+0.178 m wide (the charger fits the smallest bundled robot only)."""
 CHARGING_CONTACT = (0.06, 0.25)
 """How close (m, rad) a robot's base must come to the dock pose for the charger's spring
 contacts to touch it: a base within Nav2's 5 cm ``docking_threshold`` of a well detected dock

@@ -27,6 +27,22 @@ def moving_object_body(name: str) -> str:
     return f"{BODY_PREFIX}{name}"
 
 
+def moving_object_pose(sim: Simulation, name: str) -> Pose2D:
+    """Where the moving object ``name``'s body stands in ``sim`` now (m, rad).
+
+    Raises:
+        KeyError: the model has no moving object ``name``.
+    """
+    try:
+        body = sim.model.body(moving_object_body(name))
+    except KeyError:
+        raise KeyError(f"no moving object '{name}' in the model") from None
+    mocap = int(body.mocapid[0])
+    x, y = (float(v) for v in sim.data.mocap_pos[mocap][:2])
+    qw, _, _, qz = (float(v) for v in sim.data.mocap_quat[mocap])
+    return Pose2D(x=x, y=y, yaw=math.remainder(2.0 * math.atan2(qz, qw), math.tau))
+
+
 class MovingObjects:
     """Moves the world's moving objects in ``sim`` (built from ``world``) from now on.
 
@@ -89,4 +105,10 @@ def start_moving_objects(sim: Simulation, world: World) -> MovingObjects | None:
     return MovingObjects(sim, world) if world.moving_objects else None
 
 
-__all__ = ["MOTION_PERIOD", "MovingObject", "MovingObjects", "moving_object_body"]
+__all__ = [
+    "MOTION_PERIOD",
+    "MovingObject",
+    "MovingObjects",
+    "moving_object_body",
+    "moving_object_pose",
+]

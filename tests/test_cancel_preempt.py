@@ -5,9 +5,10 @@ hypothesis in physics steps from 0 to past the task's natural end (so every phas
 10 ms base and 50 ms navigation periods comes up), then cancel the task, send a new goal of
 the same type, or (navigation and base controllers) send a goal of another type. Task types:
 the BasicNavigator facade's goToPose (also one sealed off by walls, so that the moments fall
-in its recoveries), goThroughPoses, followWaypoints, followPath, spin, backup, driveOnHeading
-assistedTeleop, dockRobotByID (from the staging pose) and undockRobot (from the dock); the
-navigation server's wait; the base controllers' go_to_goal and bug2;
+in its recoveries), goThroughPoses, followWaypoints, followPath, spin, backup, driveOnHeading,
+assistedTeleop, dockRobotByID (from the staging pose), undockRobot (from the dock) and
+followObjectByFrame (a walking person); the navigation server's wait; the base controllers'
+go_to_goal and bug2;
 the arm server's move_to and gripper. (The pick of robots/panda/pick.py is a blocking
 sequence of these move_to and gripper tasks, with no handle of its own to cancel.)
 
@@ -73,7 +74,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, Phase, example, given, settings
 from hypothesis import strategies as st
-from navigation_rig import ROOM_DOCK, dock_room, sealed_room
+from navigation_rig import ROOM_DOCK, dock_room, sealed_room, walker_room
 
 from baobab.nav import BasicNavigator, TaskResult
 from baobab.nav.errors import AssistedTeleopError, ComputePathToPoseError
@@ -527,6 +528,17 @@ def undock(navigator: BasicNavigator) -> Finish:
     return finish
 
 
+def follow(navigator: BasicNavigator, variant: int) -> Finish:
+    """The new following goal (by TF frame) succeeds once its max_duration has passed."""
+    navigator.followObjectByFrame("person", max_duration=(2, 3)[variant])
+
+    def finish() -> None:
+        wait_nav(navigator, 10.0)
+        assert navigator.getResult() is TaskResult.SUCCEEDED, navigator.getTaskError()
+
+    return finish
+
+
 SPIN_END = (0.02, 0.1)
 """m and rad around a behaviour's end pose: it turns (or drives) in place."""
 DRIVE_END = (0.04, 0.05)
@@ -635,6 +647,15 @@ NAV_CASES = [
         end_tolerance=UNDOCK_END,
         world="dock_room",
     ),
+    # Following a walking person by its frame, for 4 s (then it succeeds).
+    NavCase(
+        "followObject",
+        5.0,
+        lambda nav: nav.followObjectByFrame("person", max_duration=4),
+        follow,
+        world="walker",
+        switch=lambda nav: spin(nav, 1.0),
+    ),
     # A goal sealed off by walls: replanning fails, and the cancels and new goals land in the
     # recoveries (clearing, Spin, Wait, BackUp) until NO_VALID_PATH ends it after ~17 s.
     NavCase(
@@ -655,6 +676,7 @@ WORLDS: dict[str, Callable[[], World | str]] = {
     "cafe": lambda: "cafe",
     "sealed": sealed_room,
     "dock_room": dock_room,
+    "walker": walker_room,
 }
 """The worlds the cases run in; each robot starts at its world's spawn."""
 
