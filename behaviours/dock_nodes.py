@@ -40,10 +40,7 @@ class DockRobotParams(NodeParams):
             raise FieldValueError(("dock_id",), "give either dock_id or dock_pose (one of them)")
         world = MissionScope.of(info).world
         if self.dock_id is not None and world is not None and self.dock_id not in world.docks:
-            raise FieldValueError(
-                ("dock_id",),
-                unknown_name(f"dock of world '{world.name}'", self.dock_id, world.docks),
-            )
+            raise FieldValueError(("dock_id",), unknown_name("dock", self.dock_id, world.docks))
         return self
 
     def summary(self) -> str:

@@ -94,6 +94,11 @@ class NavigationPort(Protocol):
         """Back out of the dock the robot is docked at."""
         ...
 
+    def follow_object(self, topic: str, frame: str, max_duration: float) -> TaskHandle:
+        """Keep Nav2's desired distance from the moving object whose pose is on ``topic`` (or
+        TF ``frame``) for ``max_duration`` s (0: until halted)."""
+        ...
+
     def clear_costmaps(self, which: str) -> None:
         """Clear the ``local``, ``global`` or ``all`` costmaps (synchronous)."""
         ...

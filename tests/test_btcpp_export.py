@@ -145,7 +145,19 @@ tree:
     - object_at: {object: cube, target: {position: [0.45, 0.3, 0.525]}}
 timeout: 60
 """
-CORPUS = {"mobile": MOBILE, "arm": ARM}
+LOBBY = """
+mission: btcpp_lobby
+world: lobby
+robot: turtlebot3
+tree:
+  sequence:
+    - dock_robot: charger
+    - undock_robot: {}
+    - follow_object: {topic: /visitor/pose, max_duration: 5}
+    - follow_object: {frame: visitor}
+timeout: 60
+"""
+CORPUS = {"mobile": MOBILE, "arm": ARM, "lobby": LOBBY}
 
 
 def mission_file(tmp_path: Path, body: str, name: str) -> Path:

@@ -187,6 +187,10 @@ class ClearCountingPort:
         """The docking server's UndockRobot."""
         return self.server.undock_robot()
 
+    def follow_object(self, topic: str, frame: str, max_duration: float) -> TaskHandle:
+        """The following server's FollowObject."""
+        return self.server.follow_object(topic, frame, max_duration)
+
     def robot_pose(self) -> Pose2D:
         """The robot's map-frame pose."""
         return self.server.robot_pose()
