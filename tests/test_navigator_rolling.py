@@ -67,8 +67,6 @@ def test_a_rejected_send_returns_none_and_sets_the_task_error(cafe: BasicNavigat
 
 NEWER_CALLS: dict[str, tuple[Callable[[BasicNavigator], object], int]] = {
     "followGpsWaypoints": (lambda n: n.followGpsWaypoints([]), 600),
-    "followObjectByTopic": (lambda n: n.followObjectByTopic("/person", 10), 999),
-    "followObjectByFrame": (lambda n: n.followObjectByFrame("person_link"), 999),
     "getAndTrackRoute": (lambda n: n.getAndTrackRoute(0, 3), 400),
 }
 
