@@ -8,6 +8,8 @@ finds them.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 from baobab.nav.docking import DockingParams
@@ -27,11 +29,45 @@ class PluginHost(DockingHost, Protocol):
     services: dict[str, Any]
 
 
-class PluggedServerTasks:
-    """The navigation server's tasks that the plugged-in servers run (its NavigationPort)."""
+@dataclass(frozen=True)
+class PluggedParams:
+    """The plugged-in servers' settings (Nav2's defaults)."""
 
+    docking: DockingParams = field(default_factory=DockingParams)
+    following: FollowingParams = field(default_factory=FollowingParams)
+
+
+class PluggedServerTasks:
+    """The navigation server's part that holds the plugged-in servers: their registries and
+    the tasks they run (its NavigationPort)."""
+
+    action_servers: dict[str, ActionServer]
+    """Servers of the Nav2 actions the navigation server does not run itself, by action name:
+    docking and following."""
+    services: dict[str, Callable[..., Any]]
+    """Nav2 services beyond the costmap ones, by name: ``docking_server/reload_database``,
+    ``collision_monitor/toggle`` (``enable`` -> ``(success, message)``) when a collision
+    monitor is plugged in."""
     docking: DockingServer
     following: FollowingServer
+
+    def _plug_in(
+        self,
+        host: PluginHost,
+        sim: Simulation,
+        lidar: ScanSource | None,
+        world: World,
+        params: PluggedParams,
+    ) -> None:
+        """Make the registries and plug the servers of ``host`` (this object) in."""
+        self.action_servers = {}
+        self.services = {}
+        self.docking, self.following = plug_in(host, sim, lidar, world, params)
+
+    def _unplug(self) -> None:
+        """Stop the plugged-in servers' subscriptions."""
+        self.docking.close()
+        self.following.poses.close()
 
     def dock_robot(self, dock_id: str, dock_pose: Pose2D | None, staging: bool) -> TaskHandle:
         """Dock at the database's ``dock_id``, or at ``dock_pose`` (Nav2's DockRobot)."""
@@ -51,13 +87,13 @@ def plug_in(
     sim: Simulation,
     lidar: ScanSource | None,
     world: World,
-    docking: DockingParams,
-    following: FollowingParams,
+    params: PluggedParams,
 ) -> tuple[DockingServer, FollowingServer]:
     """The docking and following servers of ``host``, registered there (module docstring)."""
-    docking_server = DockingServer(host, lidar, world.docks, docking)
+    docking_server = DockingServer(host, lidar, world.docks, params.docking)
     poses = ObjectPoses(sim, world.moving_objects, lidar)
     period = 1.0 / host.params.controller.controller_frequency
+    following = params.following
     following_server = FollowingServer(host.base, host.tasks, poses, following, period=period)
     host.action_servers.update(docking_server.action_servers())
     host.action_servers[FOLLOW_ACTION] = following_server
@@ -65,4 +101,4 @@ def plug_in(
     return docking_server, following_server
 
 
-__all__ = ["PluggedServerTasks", "PluginHost", "plug_in"]
+__all__ = ["PluggedParams", "PluggedServerTasks", "PluginHost", "plug_in"]

@@ -15,6 +15,7 @@ from baobab.nav.controller_server import ControllerParams
 from baobab.nav.following import FollowingParams
 from baobab.nav.graceful_control import GracefulParams
 from baobab.nav.layered_costmap import CostmapParams
+from baobab.nav.plugged_servers import PluggedParams
 from baobab.nav.pure_pursuit import RegulatedPurePursuitParams
 from baobab.nav.server import NavigationParams
 from baobab.robots.catalog import RobotInfo
@@ -70,5 +71,5 @@ def navigation_params(robot: RobotInfo | RobotTuning) -> NavigationParams:
         local_costmap=costmap,
         controller=controller,
         behaviors=behaviors,
-        following=following,
+        plugged=PluggedParams(following=following),
     )

@@ -26,9 +26,8 @@ not import ``behaviours`` (dependencies point the other way).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -46,18 +45,17 @@ from baobab.nav.behaviors import (
 )
 from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import KeepoutParams, keepout_filter, speed_filter
 from baobab.nav.costmap_updates import CostmapUpdates
-from baobab.nav.docking import DockingParams
 from baobab.nav.errors import NavigationError, SmoothPathError
-from baobab.nav.following import FollowingParams
 from baobab.nav.footprint import collision_mask
-from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
+from baobab.nav.interfaces import MobileBase, ScanSource, ServerTask
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
 from baobab.nav.layers import StaticLayer
 from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
 from baobab.nav.path import Path
 from baobab.nav.planner import GlobalPlanner, PlannerParams
-from baobab.nav.plugged_servers import PluggedServerTasks, plug_in
+from baobab.nav.plugged_servers import PluggedParams, PluggedServerTasks
 from baobab.nav.smoother import SimpleSmoother
 from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
@@ -83,8 +81,8 @@ class NavigationParams:
     behaviors: BehaviorParams = field(default_factory=BehaviorParams)
     navigator: NavigatorParams = field(default_factory=NavigatorParams)
     waypoint_loop_rate: float = 20.0
-    docking: DockingParams = field(default_factory=DockingParams)
-    following: FollowingParams = field(default_factory=FollowingParams)
+    plugged: PluggedParams = field(default_factory=PluggedParams)
+    keepout: KeepoutParams = field(default_factory=KeepoutParams)
 
 
 class NavigationServer(PluggedServerTasks):
@@ -113,16 +111,28 @@ class NavigationServer(PluggedServerTasks):
         self.sim = sim
         self.base = base
         self.world = world
-        static = StaticLayer(world, p.global_costmap.resolution)
+        static = StaticLayer(world, p.global_costmap.resolution, params=p.global_costmap.static)
         local_static = (
             static
             if p.local_costmap.resolution == p.global_costmap.resolution
-            else StaticLayer(world, p.local_costmap.resolution)
+            and p.local_costmap.static == p.global_costmap.static
+            else StaticLayer(world, p.local_costmap.resolution, params=p.local_costmap.static)
         )
-        self.global_layers = LayeredCostmap.global_costmap(world, p.global_costmap, static)
+        self.global_layers = LayeredCostmap.global_costmap(
+            world,
+            p.global_costmap,
+            static,
+            keepout_filter(world, static, p.global_costmap.inflation, p.keepout),
+        )
         self.local_layers = LayeredCostmap.local_costmap(
-            world, base.pose(), p.local_costmap, p.local_costmap_size, local_static
+            world,
+            base.pose(),
+            p.local_costmap,
+            p.local_costmap_size,
+            local_static,
+            keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout),
         )
+        self.speed_filter = speed_filter(world)
         self.planner = GlobalPlanner(p.planner, p.smoother)
         self.through_poses = ThroughPosesPlanner(self.planner)
         self.smoother = p.smoother
@@ -140,13 +150,7 @@ class NavigationServer(PluggedServerTasks):
         )
         self.metrics = NavigationMetrics()
         self.tasks = TaskSlot(base, self.follower, self._clock)
-        self.action_servers: dict[str, ActionServer] = {}
-        """Servers of the Nav2 actions this server does not run itself, by action name:
-        docking and following (:mod:`baobab.nav.plugged_servers`)."""
-        self.services: dict[str, Callable[..., Any]] = {}
-        """Nav2 services beyond the costmap ones, by name: ``collision_monitor/toggle``
-        (``enable`` -> ``(success, message)``) when a collision monitor is plugged in."""
-        self.docking, self.following = plug_in(self, sim, lidar, world, p.docking, p.following)
+        self._plug_in(self, sim, lidar, world, p.plugged)  # action_servers, services
         self._lidar = lidar
         self._last_pose = base.pose()
         if lidar is not None:
@@ -416,8 +420,7 @@ class NavigationServer(PluggedServerTasks):
     def close(self) -> None:
         """Cancel the running task and stop every callback and subscription."""
         self.cancel()
-        self.docking.close()
-        self.following.poses.close()
+        self._unplug()
         for timer in self._timers:
             timer.cancel()
         if self._lidar is not None:
@@ -442,6 +445,11 @@ class NavigationServer(PluggedServerTasks):
 
     def _update_local(self, _now: float) -> None:
         self.costmap_updates.update_local()
+        if self.speed_filter is not None:
+            pose = self.base.pose()
+            limit = self.speed_filter.update(pose.x, pose.y)
+            if limit is not None:
+                self.follower.set_speed_limit(limit)
 
     def _update_global(self, _now: float) -> None:
         self.costmap_updates.update_global()
