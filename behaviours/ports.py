@@ -85,6 +85,20 @@ class NavigationPort(Protocol):
         """Pass teleop commands through the collision projection for ``time_allowance`` s."""
         ...
 
+    def dock_robot(self, dock_id: str, dock_pose: Pose2D | None, staging: bool) -> TaskHandle:
+        """Dock at the dock ``dock_id`` (or at ``dock_pose`` when the id is empty), navigating
+        to its staging pose first when ``staging``."""
+        ...
+
+    def undock_robot(self) -> TaskHandle:
+        """Back out of the dock the robot is docked at."""
+        ...
+
+    def follow_object(self, topic: str, frame: str, max_duration: float) -> TaskHandle:
+        """Keep Nav2's desired distance from the moving object whose pose is on ``topic`` (or
+        TF ``frame``) for ``max_duration`` s (0: until halted)."""
+        ...
+
     def clear_costmaps(self, which: str) -> None:
         """Clear the ``local``, ``global`` or ``all`` costmaps (synchronous)."""
         ...

@@ -2,8 +2,8 @@
 
 Each Nav2 action has its own range of codes (reference/nav2.md §2): controller 1xx, planner 2xx,
 through-poses planner 3xx, smoother 5xx, waypoint follower 6xx, behaviours 7xx, navigators
-9000/9100 (the route server's 4xx and the docking and following servers' 9xx are in
-:mod:`baobab.nav.future_server_errors` until those servers run). ``NONE = 0`` means success
+9000/9100, docking and following servers 9xx (the route server's 4xx are in
+:mod:`baobab.nav.future_server_errors` until that server runs). ``NONE = 0`` means success
 everywhere.
 When several actions failed during one navigation, Nav2 reports the numerically lowest non-zero
 code (:func:`reported_error_code`).
@@ -152,6 +152,41 @@ class NavigateThroughPosesError(IntEnum):
     FAILED_TO_LOAD_BEHAVIOR_TREE = 9101
     TF_ERROR = 9102
     TIMEOUT = 9103
+
+
+class DockRobotError(IntEnum):
+    """``nav2_msgs/action/DockRobot`` result codes (docking server)."""
+
+    NONE = 0
+    DOCK_NOT_IN_DB = 901
+    DOCK_NOT_VALID = 902
+    FAILED_TO_STAGE = 903
+    FAILED_TO_DETECT_DOCK = 904
+    FAILED_TO_CONTROL = 905
+    FAILED_TO_CHARGE = 906
+    TIMEOUT = 907
+    UNKNOWN = 999
+
+
+class UndockRobotError(IntEnum):
+    """``nav2_msgs/action/UndockRobot`` result codes (docking server)."""
+
+    NONE = 0
+    DOCK_NOT_VALID = 902
+    FAILED_TO_CONTROL = 905
+    TIMEOUT = 907
+    UNKNOWN = 999
+
+
+class FollowObjectError(IntEnum):
+    """``nav2_msgs/action/FollowObject`` result codes (following server, Rolling)."""
+
+    NONE = 0
+    TF_ERROR = 901
+    FAILED_TO_DETECT_OBJECT = 902
+    FAILED_TO_CONTROL = 903
+    TIMEOUT = 904
+    UNKNOWN = 999
 
 
 class NavigationError(BaobabError):

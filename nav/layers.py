@@ -113,7 +113,7 @@ class StaticLayer:
         self._rasterise_obstacles(world)
 
     def _rasterise_obstacles(self, world: World) -> None:
-        for box in world.boxes:
+        for box in [*world.boxes, *world.dock_boxes]:
             self._rasterise_box(box)
         for cylinder in world.cylinders:
             self._rasterise_cylinder(cylinder)

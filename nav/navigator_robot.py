@@ -139,8 +139,11 @@ def build_simulated_robot(
     Raises:
         NavigatorSetupError: ``start`` is not free for the robot's footprint.
     """
+    from baobab.sim.moving_object_motion import start_moving_objects  # MuJoCo: one runs
+
     check_free(world, start, info.mobile_facts.footprint, what="start pose")
-    _, robot = info.build_sim(world, start, seed=seed)
+    sim, robot = info.build_sim(world, start, seed=seed)
+    start_moving_objects(sim, world)
     return simulated_robot(info, robot)
 
 

@@ -8,9 +8,14 @@ default mobile robot's, so ``navigation_params(default robot)`` equals ``Navigat
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from baobab.nav.behaviors import BehaviorParams
 from baobab.nav.controller_server import ControllerParams
+from baobab.nav.following import FollowingParams
+from baobab.nav.graceful_control import GracefulParams
 from baobab.nav.layered_costmap import CostmapParams
+from baobab.nav.plugged_servers import PluggedParams
 from baobab.nav.pure_pursuit import RegulatedPurePursuitParams
 from baobab.nav.server import NavigationParams
 from baobab.robots.catalog import RobotInfo
@@ -55,9 +60,16 @@ def navigation_params(robot: RobotInfo | RobotTuning) -> NavigationParams:
         deceleration_limit=-tuning.max_linear_accel,
         minimum_speed=tuning.backup_min_speed,
     )
+    graceful = GracefulParams()
+    following = FollowingParams(
+        controller=replace(
+            graceful, v_linear_max=min(graceful.v_linear_max, tuning.max_linear_speed)
+        )
+    )
     return NavigationParams(
         global_costmap=costmap,
         local_costmap=costmap,
         controller=controller,
         behaviors=behaviors,
+        plugged=PluggedParams(following=following),
     )

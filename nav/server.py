@@ -26,9 +26,8 @@ not import ``behaviours`` (dependencies point the other way).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -50,12 +49,13 @@ from baobab.nav.costmap_filters import KeepoutParams, speed_filter
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
-from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
+from baobab.nav.interfaces import MobileBase, ScanSource, ServerTask
 from baobab.nav.layered_costmap import CostmapParams
 from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
 from baobab.nav.navigation_costmaps import navigation_costmaps
 from baobab.nav.path import Path
 from baobab.nav.planner import GlobalPlanner, PlannerParams
+from baobab.nav.plugged_servers import PluggedParams, PluggedServerTasks
 from baobab.nav.smoother import SimpleSmoother
 from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
@@ -81,10 +81,11 @@ class NavigationParams:
     behaviors: BehaviorParams = field(default_factory=BehaviorParams)
     navigator: NavigatorParams = field(default_factory=NavigatorParams)
     waypoint_loop_rate: float = 20.0
+    plugged: PluggedParams = field(default_factory=PluggedParams)
     keepout: KeepoutParams = field(default_factory=KeepoutParams)
 
 
-class NavigationServer:
+class NavigationServer(PluggedServerTasks):
     """Nav2-style navigation for one mobile base in a simulation.
 
     Args:
@@ -136,11 +137,7 @@ class NavigationServer:
         )
         self.metrics = NavigationMetrics()
         self.tasks = TaskSlot(base, self.follower, self._clock)
-        self.action_servers: dict[str, ActionServer] = {}
-        """Servers of the Nav2 actions this server does not run, by action name (none yet)."""
-        self.services: dict[str, Callable[..., Any]] = {}
-        """Nav2 services beyond the costmap ones, by name: ``collision_monitor/toggle``
-        (``enable`` -> ``(success, message)``) when a collision monitor is plugged in."""
+        self._plug_in(self, sim, lidar, world, p.plugged)  # action_servers, services
         self._lidar = lidar
         self._last_pose = base.pose()
         if lidar is not None:
@@ -410,6 +407,7 @@ class NavigationServer:
     def close(self) -> None:
         """Cancel the running task and stop every callback and subscription."""
         self.cancel()
+        self._unplug()
         for timer in self._timers:
             timer.cancel()
         if self._lidar is not None:

@@ -7,7 +7,8 @@ Geom groups are a contract with the sensors and the contact checks:
   solid cells merge into (``map_0``, ``map_1``, ...; :mod:`baobab.sim.map_geometry`), which
   wear the material :data:`MAP_WALL_MATERIAL`. All are geoms of the world body: MuJoCo's
   broad phase pays for every geom of any other body at every step.
-- ``MOVABLE_GROUP`` (2): obstacle slots that events spawn or move at run time (mocap bodies).
+- ``MOVABLE_GROUP`` (2): obstacle slots that events spawn or move at run time, and the world's
+  moving objects (mocap bodies).
 - ``ROBOT_GROUP`` (3): every geom of a robot; sensors on a robot exclude this group.
 """
 
@@ -19,6 +20,7 @@ import mujoco
 import numpy as np
 
 from baobab.sim.map_geometry import solid_rectangles
+from baobab.sim.moving_object_motion import moving_object_body
 from baobab.sim.world import (
     FLOOR_NAME,
     MAP_GEOM_PREFIX,
@@ -71,6 +73,7 @@ def world_spec(
     _add_obstacles(spec.worldbody, world)
     _add_map_walls(spec, world)
     _add_movable_slots(spec.worldbody, movable_slots)
+    _add_moving_objects(spec.worldbody, world)
     return spec
 
 
@@ -107,8 +110,8 @@ def _add_floor(spec: mujoco.MjSpec, world: World) -> None:
 
 
 def _add_obstacles(body: mujoco.MjsBody, world: World) -> None:
-    """The world file's boxes and cylinders, standing on the floor (``STATIC_GROUP``)."""
-    for box in world.boxes:
+    """The world file's boxes, cylinders and docks, standing on the floor (``STATIC_GROUP``)."""
+    for box in [*world.boxes, *world.dock_boxes]:
         body.add_geom(
             name=box.name,
             type=mujoco.mjtGeom.mjGEOM_BOX,
@@ -181,6 +184,26 @@ def _add_movable_slots(body: mujoco.MjsBody, count: int) -> None:
             type=mujoco.mjtGeom.mjGEOM_BOX,
             size=[0.15, 0.15, 0.25],
             rgba=[0.85, 0.35, 0.2, 1.0],
+            group=MOVABLE_GROUP,
+        )
+
+
+def _add_moving_objects(body: mujoco.MjsBody, world: World) -> None:
+    """A mocap cylinder (``MOVABLE_GROUP``) per moving object, where its script starts."""
+    for item in world.moving_objects:
+        first = item.legs()[0]
+        name = moving_object_body(item.name)
+        mover = body.add_body(
+            name=name,
+            mocap=True,
+            pos=[first.x, first.y, item.height / 2],
+            quat=_yaw_quaternion_wxyz(first.yaw),
+        )
+        mover.add_geom(
+            name=name,
+            type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+            size=[item.radius, item.height / 2, 0.0],
+            rgba=list(item.colour),
             group=MOVABLE_GROUP,
         )
 

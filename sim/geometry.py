@@ -60,13 +60,14 @@ def floor_edge_distance(world: World, points: ArrayLike) -> FloatArray:
 
 def obstacle_names(world: World) -> list[str]:
     """Names of the static obstacles, in the row order of :func:`obstacle_distances`."""
-    return [box.name for box in world.boxes] + [cyl.name for cyl in world.cylinders]
+    boxes = [*world.boxes, *world.dock_boxes]
+    return [box.name for box in boxes] + [cyl.name for cyl in world.cylinders]
 
 
 def obstacle_distances(world: World, points: ArrayLike) -> FloatArray:
     """Signed distance (m) from every point to every obstacle: shape (obstacles, *points)."""
     p = _as_points(points)
-    rows = [box_distance(p, box) for box in world.boxes]
+    rows = [box_distance(p, box) for box in [*world.boxes, *world.dock_boxes]]
     rows += [cylinder_distance(p, cylinder) for cylinder in world.cylinders]
     if not rows:
         return np.empty((0, *p.shape[:-1]))
@@ -80,7 +81,7 @@ def clearance(world: World, points: ArrayLike) -> FloatArray:
     """
     p = _as_points(points)
     nearest = floor_edge_distance(world, p)
-    for box in world.boxes:
+    for box in [*world.boxes, *world.dock_boxes]:
         nearest = np.minimum(nearest, box_distance(p, box))
     for cylinder in world.cylinders:
         nearest = np.minimum(nearest, cylinder_distance(p, cylinder))

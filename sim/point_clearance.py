@@ -32,9 +32,11 @@ def cylinder_distance_at(x: float, y: float, cylinder: Cylinder) -> float:
 
 
 def obstacle_distances_at(world: World, x: float, y: float) -> list[tuple[str, float]]:
-    """(name, signed distance (m)) to every static obstacle: boxes, cylinders, then the map's
-    solid cells (named :data:`MAP_WALLS`) on a world that stands on a map."""
-    distances = [(box.name, box_distance_at(x, y, box)) for box in world.boxes]
+    """(name, signed distance (m)) to every static obstacle: boxes (the docks' parts last),
+    cylinders, then the map's solid cells (named :data:`MAP_WALLS`) on a world that stands on a
+    map."""
+    boxes = [*world.boxes, *world.dock_boxes]
+    distances = [(box.name, box_distance_at(x, y, box)) for box in boxes]
     distances += [(cyl.name, cylinder_distance_at(x, y, cyl)) for cyl in world.cylinders]
     distance = map_distance_at(world, x, y)
     if distance is not None:

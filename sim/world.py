@@ -28,7 +28,9 @@ from pydantic import (
     model_validator,
 )
 
+from baobab.sim.docks import DOCK_COLOUR, DOCK_HEIGHT, Dock, check_docks
 from baobab.sim.errors import WorldError
+from baobab.sim.moving_objects import MovingObject, check_moving_objects
 from baobab.sim.world_map import FilterSettings, MapSettings, WorldMaps, load_world_maps
 from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import (
@@ -159,6 +161,10 @@ class World(_Strict):
     cylinders: list[Cylinder] = Field(default_factory=empty_list)
     spawns: dict[str, Pose2D] = Field(default_factory=dict)
     locations: dict[str, Pose2D] = Field(default_factory=dict)
+    docks: dict[str, Dock] = Field(default_factory=dict)
+    """Charging docks, as Nav2's dock database lists them (:mod:`baobab.sim.docks`)."""
+    moving_objects: list[MovingObject] = Field(default_factory=empty_list)
+    """Scripted objects that walk about (:mod:`baobab.sim.moving_objects`)."""
     filters: FilterSettings | None = None
     _maps: WorldMaps = PrivateAttr(default_factory=WorldMaps)
 
@@ -171,6 +177,10 @@ class World(_Strict):
             raise FieldValueError(("spawns",), "needs a 'default' entry")
         self._check_sizes()
         self._check_names()
+        check_docks(self.docks, self.boxes, self.cylinders, self.bounds)
+        check_moving_objects(
+            self.moving_objects, [*self.boxes, *self.cylinders, *self.dock_boxes], self.bounds
+        )
         for group, poses in (("spawns", self.spawns), ("locations", self.locations)):
             for label, pose in poses.items():
                 if not self.contains(pose.x, pose.y):
@@ -278,6 +288,22 @@ class World(_Strict):
                     f"an obstacle {extent:g} m across; the limit is {MAX_FLOOR_SIDE:g} m "
                     "(MAX_FLOOR_SIDE)",
                 )
+
+    @cached_property
+    def dock_boxes(self) -> list[Box]:
+        """The parts of every dock as static boxes (named ``<dock>/back`` ...)."""
+        return [
+            Box(
+                name=part.name,
+                center=part.center,
+                size=part.size,
+                yaw=part.yaw,
+                height=DOCK_HEIGHT,
+                colour=DOCK_COLOUR,
+            )
+            for name, dock in self.docks.items()
+            for part in dock.parts(name)
+        ]
 
     @cached_property
     def bounds(self) -> tuple[float, float, float, float]:

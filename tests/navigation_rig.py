@@ -19,6 +19,8 @@ from baobab.robots.catalog import ROBOTS
 from baobab.robots.diff_drive import MobileRobot
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP, movable_slot_name
+from baobab.sim.docks import Dock
+from baobab.sim.moving_objects import MovingObject, Waypoint
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle, TaskStatus
 from baobab.sim.world import Box, Floor, Pose2D, World, load_world
@@ -147,4 +149,41 @@ def alcove() -> World:
         floor=Floor(size=(6.0, 4.0)),
         boxes=walls,
         spawns={"default": Pose2D(x=-0.6, y=0.0)},
+    )
+
+
+ROOM_DOCK = Dock(pose=(1.5, 0.5, 0.3))
+"""The charging dock of :func:`dock_room`: docked base at (1.5, 0.5), facing 0.3 rad."""
+
+
+def dock_room(start: Pose2D | None = None) -> World:
+    """A 6 m x 5 m room with the charging dock ``home`` (:data:`ROOM_DOCK`); the robot starts
+    at ``start``, by default on the dock's staging pose (0.7 m before it)."""
+    if start is None:
+        x, y = ROOM_DOCK.to_map(-0.7, 0.0)
+        start = Pose2D(x=x, y=y, yaw=ROOM_DOCK.yaw)
+    return World(
+        name="dock_room",
+        floor=Floor(size=(6.0, 5.0)),
+        spawns={"default": start},
+        docks={"home": ROOM_DOCK},
+    )
+
+
+WALKER = MovingObject(
+    name="person",
+    start_time=1.0,
+    speed=0.15,
+    waypoints=[Waypoint(x=-1.5, y=0.0), Waypoint(x=2.0, y=0.0, wait=1.0)],
+)
+"""A person who walks 3.5 m east along y = 0 at 0.15 m/s from 1 s on, then stands."""
+
+
+def walker_room() -> World:
+    """An 8 m x 6 m room with :data:`WALKER`; the robot starts 1 m behind the person."""
+    return World(
+        name="walker_room",
+        floor=Floor(size=(8.0, 6.0)),
+        spawns={"default": Pose2D(x=-2.5, y=0.0)},
+        moving_objects=[WALKER],
     )

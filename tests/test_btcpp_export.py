@@ -39,7 +39,7 @@ from baobab.missions.language.tree_export import preorder, to_btcpp, to_btcpp_lo
 
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
 BUNDLED = sorted(Path(str(resources.files("baobab.missions"))).glob("*.yaml"))
-SHORT_WAITS = {"cafe_delivery": {"pickup": "0.05"}}
+SHORT_WAITS = {"cafe_delivery": {"pickup": "0.05"}, "lobby_dock": {"charge_time": "0.05"}}
 """BT.CPP's Sleep waits in wall-clock time: shorten the bundled waits it would sit through."""
 
 MOBILE = """
@@ -103,6 +103,8 @@ tree:
     - retry: {num_failures: 2, child: {navigate_through_poses: [goal_open, {x: 1.0, y: 1.0}]}}
     - force_success: {always_failure: {}}
     - invert: {force_failure: {clear_costmaps: local}}
+    - force_success: {dock_robot: {dock_pose: {x: 2.0, y: -2.0}, navigate_to_staging_pose: false}}
+    - force_success: {undock_robot: {}}
     - follow_path: {path: [{x: 0, y: 0}, {x: 0.5, y: 0, yaw: 0.1}]}
     - timeout: {duration: 60.5, child: {elapsed: 0}}
     - subtree: {name: park, args: {slot: 1}}
@@ -143,7 +145,19 @@ tree:
     - object_at: {object: cube, target: {position: [0.45, 0.3, 0.525]}}
 timeout: 60
 """
-CORPUS = {"mobile": MOBILE, "arm": ARM}
+LOBBY = """
+mission: btcpp_lobby
+world: lobby
+robot: turtlebot3
+tree:
+  sequence:
+    - dock_robot: charger
+    - undock_robot: {}
+    - follow_object: {topic: /visitor/pose, max_duration: 5}
+    - follow_object: {frame: visitor}
+timeout: 60
+"""
+CORPUS = {"mobile": MOBILE, "arm": ARM, "lobby": LOBBY}
 
 
 def mission_file(tmp_path: Path, body: str, name: str) -> Path:

@@ -5,8 +5,10 @@ hypothesis in physics steps from 0 to past the task's natural end (so every phas
 10 ms base and 50 ms navigation periods comes up), then cancel the task, send a new goal of
 the same type, or (navigation and base controllers) send a goal of another type. Task types:
 the BasicNavigator facade's goToPose (also one sealed off by walls, so that the moments fall
-in its recoveries), goThroughPoses, followWaypoints, followPath, spin, backup, driveOnHeading
-and assistedTeleop; the navigation server's wait; the base controllers' go_to_goal and bug2;
+in its recoveries), goThroughPoses, followWaypoints, followPath, spin, backup, driveOnHeading,
+assistedTeleop, dockRobotByID (from the staging pose), undockRobot (from the dock) and
+followObjectByFrame (a walking person); the navigation server's wait; the base controllers'
+go_to_goal and bug2;
 the arm server's move_to and gripper. (The pick of robots/panda/pick.py is a blocking
 sequence of these move_to and gripper tasks, with no handle of its own to cancel.)
 
@@ -72,7 +74,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, Phase, example, given, settings
 from hypothesis import strategies as st
-from navigation_rig import sealed_room
+from navigation_rig import ROOM_DOCK, dock_room, sealed_room, walker_room
 
 from baobab.nav import BasicNavigator, TaskResult
 from baobab.nav.errors import AssistedTeleopError, ComputePathToPoseError
@@ -481,6 +483,62 @@ def assisted_teleop(navigator: BasicNavigator, variant: int) -> Finish:
     return finish
 
 
+DOCKED = Pose2D(x=ROOM_DOCK.x, y=ROOM_DOCK.y, yaw=ROOM_DOCK.yaw)
+DOCK_END = (0.07, 0.1)
+"""m and rad around the dock pose: Nav2's 5 cm docking threshold, and the braking."""
+STAGING = Pose2D(x=ROOM_DOCK.to_map(-0.7, 0.0)[0], y=ROOM_DOCK.to_map(-0.7, 0.0)[1], yaw=0.3)
+UNDOCK_END = (0.08, 0.1)
+"""m and rad around the staging pose after undocking: the 5 cm tolerance, and the braking."""
+
+
+def dock(navigator: BasicNavigator, variant: int) -> Finish:
+    """The new docking goal (by id, or by pose) docks the robot and it charges."""
+    if variant == 0:
+        navigator.dockRobotByID("home", nav_to_dock=False)
+    else:
+        navigator.dockRobotByPose(pose_stamped(DOCKED.x, DOCKED.y, DOCKED.yaw), nav_to_dock=False)
+
+    def finish() -> None:
+        wait_nav(navigator, 40.0)
+        assert navigator.getResult() is TaskResult.SUCCEEDED, navigator.getTaskError()
+        pose = navigator.robot_pose()
+        assert planar_distance(pose, DOCKED) < DOCK_END[0], pose
+        assert navigator.server.docking.is_charging()
+
+    return finish
+
+
+def dock_then_undock(navigator: BasicNavigator) -> None:
+    """Dock from the staging pose (to its end), then send the undocking goal."""
+    navigator.dockRobotByID("home", nav_to_dock=False)
+    wait_nav(navigator, 40.0)
+    assert navigator.getResult() is TaskResult.SUCCEEDED, navigator.getTaskError()
+    navigator.undockRobot()
+
+
+def undock(navigator: BasicNavigator) -> Finish:
+    """The new undocking goal ends SUCCEEDED off the charger (backed out, or not docked)."""
+    navigator.undockRobot("charging_dock")
+
+    def finish() -> None:
+        wait_nav(navigator, 40.0)
+        assert navigator.getResult() is TaskResult.SUCCEEDED, navigator.getTaskError()
+        assert not navigator.server.docking.is_charging()
+
+    return finish
+
+
+def follow(navigator: BasicNavigator, variant: int) -> Finish:
+    """The new following goal (by TF frame) succeeds once its max_duration has passed."""
+    navigator.followObjectByFrame("person", max_duration=(2, 3)[variant])
+
+    def finish() -> None:
+        wait_nav(navigator, 10.0)
+        assert navigator.getResult() is TaskResult.SUCCEEDED, navigator.getTaskError()
+
+    return finish
+
+
 SPIN_END = (0.02, 0.1)
 """m and rad around a behaviour's end pose: it turns (or drives) in place."""
 DRIVE_END = (0.04, 0.05)
@@ -569,6 +627,35 @@ NAV_CASES = [
         natural=TaskStatus.FAILED,
         natural_code=AssistedTeleopError.TIMEOUT,
     ),
+    # Docking from the staging pose: perception, the graceful approach, charging (~4.5 s).
+    NavCase(
+        "dockRobot",
+        6.0,
+        lambda nav: nav.dockRobotByID("home", nav_to_dock=False),
+        dock,
+        end=DOCKED,
+        end_tolerance=DOCK_END,
+        world="dock_room",
+    ),
+    # Undocking (once docked): charging off, backing out 0.7 m to the staging pose (~5 s).
+    NavCase(
+        "undockRobot",
+        6.5,
+        dock_then_undock,
+        lambda nav, variant: undock(nav),
+        end=STAGING,
+        end_tolerance=UNDOCK_END,
+        world="dock_room",
+    ),
+    # Following a walking person by its frame, for 4 s (then it succeeds).
+    NavCase(
+        "followObject",
+        5.0,
+        lambda nav: nav.followObjectByFrame("person", max_duration=4),
+        follow,
+        world="walker",
+        switch=lambda nav: spin(nav, 1.0),
+    ),
     # A goal sealed off by walls: replanning fails, and the cancels and new goals land in the
     # recoveries (clearing, Spin, Wait, BackUp) until NO_VALID_PATH ends it after ~17 s.
     NavCase(
@@ -585,7 +672,12 @@ NAV_CASES = [
     ),
 ]
 
-WORLDS: dict[str, Callable[[], World | str]] = {"cafe": lambda: "cafe", "sealed": sealed_room}
+WORLDS: dict[str, Callable[[], World | str]] = {
+    "cafe": lambda: "cafe",
+    "sealed": sealed_room,
+    "dock_room": dock_room,
+    "walker": walker_room,
+}
 """The worlds the cases run in; each robot starts at its world's spawn."""
 
 

@@ -67,11 +67,6 @@ def test_a_rejected_send_returns_none_and_sets_the_task_error(cafe: BasicNavigat
 
 NEWER_CALLS: dict[str, tuple[Callable[[BasicNavigator], object], int]] = {
     "followGpsWaypoints": (lambda n: n.followGpsWaypoints([]), 600),
-    "dockRobotByPose": (lambda n: n.dockRobotByPose(pose_stamped(1.0, 0.0), "charger"), 999),
-    "dockRobotByID": (lambda n: n.dockRobotByID("home"), 999),
-    "undockRobot": (lambda n: n.undockRobot(), 999),
-    "followObjectByTopic": (lambda n: n.followObjectByTopic("/person", 10), 999),
-    "followObjectByFrame": (lambda n: n.followObjectByFrame("person_link"), 999),
     "getAndTrackRoute": (lambda n: n.getAndTrackRoute(0, 3), 400),
 }
 

@@ -59,7 +59,8 @@ def test_error_code_names_are_those_of_the_robots_capabilities() -> None:
         for value in vars(nav_errors).values()
         if isinstance(value, type) and issubclass(value, enum.IntEnum) and value is not enum.IntEnum
     ]
-    assert len(nav_enums) == 12
+    assert len(nav_enums) == 15  # with the docking (2) and following (1) servers' codes
+    assert mobile["FAILED_TO_DETECT_DOCK"] == {904}
     assert all(member.name in mobile for codes_enum in nav_enums for member in codes_enum)
 
 

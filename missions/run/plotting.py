@@ -253,7 +253,7 @@ def _obstacles(axes: Axes, data: MobilePlot, halo: list[Any]) -> None:
     from matplotlib.patches import Circle, Polygon
 
     edge: dict[str, Any] = {"ec": OBSTACLE_EDGE, "lw": 0.6, "zorder": 2}
-    for box in data.world.boxes:
+    for box in [*data.world.boxes, *data.world.dock_boxes]:
         corners = _box_corners(box.center, box.size, box.yaw)
         axes.add_patch(Polygon(corners, fc=box.colour[:3], **edge))
     for cylinder in data.world.cylinders:

@@ -32,6 +32,7 @@ from baobab.robots.catalog import RobotInfo
 from baobab.robots.diff_drive.controller_tasks import BaseControllerServer
 from baobab.robots.diff_drive.robot import MobileRobot
 from baobab.sim.errors import BaobabError
+from baobab.sim.moving_object_motion import start_moving_objects
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
@@ -179,6 +180,18 @@ class ClearCountingPort:
         """The server's AssistedTeleop."""
         return self.server.assisted_teleop(time_allowance)
 
+    def dock_robot(self, dock_id: str, dock_pose: Pose2D | None, staging: bool) -> TaskHandle:
+        """The docking server's DockRobot."""
+        return self.server.dock_robot(dock_id, dock_pose, staging)
+
+    def undock_robot(self) -> TaskHandle:
+        """The docking server's UndockRobot."""
+        return self.server.undock_robot()
+
+    def follow_object(self, topic: str, frame: str, max_duration: float) -> TaskHandle:
+        """The following server's FollowObject."""
+        return self.server.follow_object(topic, frame, max_duration)
+
     def robot_pose(self) -> Pose2D:
         """The robot's map-frame pose."""
         return self.server.robot_pose()
@@ -197,6 +210,7 @@ class MobileRig:
         self.sim, self.robot = mission.robot.build_sim(
             world, mission.start, seed=seed, lidar_noise_std=mission.noise.lidar_std
         )
+        self.moving_objects = start_moving_objects(self.sim, world)
         self.controllers = BaseControllerServer(self.sim, self.robot.base, self.robot.lidar)
         self.teleop: TeleopChannel | None = TeleopChannel()
         self.obstacles: ObstacleSlots | None = ObstacleSlots(self.sim)
