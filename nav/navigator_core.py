@@ -10,6 +10,7 @@ services, costmaps and maps in :mod:`baobab.nav.navigator`.
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import math
 from collections.abc import Callable
@@ -17,11 +18,12 @@ from pathlib import Path as FilePath
 
 from baobab.nav import msgs
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
+from baobab.nav.nav2_configuration import Nav2Configuration, load_nav2_params
 from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot
 from baobab.nav.navigator_time import NavigatorWaits
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
-from baobab.nav.server import NavigationServer, build_navigation
+from baobab.nav.server import NavigationParams, NavigationServer, build_navigation
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
 from baobab.sim.world import Pose2D, World, load_world
@@ -56,12 +58,20 @@ class NavigatorCore(Node):
         start: the robot's map-frame start pose; the world's default spawn when None.
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
+        params_file: a Nav2 parameter file (``nav2_params.yaml``) that configures the
+            navigation stack (:mod:`baobab.nav.nav2_configuration`); its unused parameters
+            are logged once as a warning.
+        nav2_substitute: run the stated substitute of each plugin baobab does not have
+            (``--nav2-substitute``) instead of refusing the file.
 
-    ``world``, ``start``, ``seed`` and ``realtime`` left at None take the values of
-    :func:`~baobab.nav.defaults.navigator_defaults` (what ``baobab nav2 --world ...`` sets);
-    the default start applies only with the default world.
+    ``world``, ``start``, ``seed``, ``realtime``, ``params_file`` and ``nav2_substitute`` left
+    at None take the values of :func:`~baobab.nav.defaults.navigator_defaults` (what
+    ``baobab nav2 --world ...`` sets); the default start applies only with the default world.
+    Without a parameter file, FollowWaypoints goes on past a missed waypoint (nav2_bringup's
+    ``stop_on_failure: false``).
 
     Raises:
+        Nav2ParamsError: the parameter file cannot be used (located message).
         WorldError: the world cannot be loaded (located message).
         NavigatorSetupError: an unknown robot, or a start pose that is not free.
         TypeError: an argument of the wrong type.
@@ -77,8 +87,20 @@ class NavigatorCore(Node):
         start: Pose2D | None = None,
         seed: int | None = None,
         realtime: bool | None = None,
+        params_file: str | FilePath | None = None,
+        nav2_substitute: bool | None = None,
     ) -> None:
         defaults = navigator_defaults()
+        params_file = defaults.nav2_params if params_file is None else params_file
+        self.nav2_configuration: Nav2Configuration | None = None
+        """What the parameter file set (None without one)."""
+        self._params = dataclasses.replace(NavigationParams(), waypoint_stop_on_failure=False)
+        if params_file is not None:
+            substitute = defaults.nav2_substitute if nav2_substitute is None else nav2_substitute
+            self.nav2_configuration = load_nav2_params(
+                params_file, self._params, substitute=substitute
+            )
+            self._params = self.nav2_configuration.params
         settings = NavigatorDefaults(
             world=defaults.world if world is None or isinstance(world, World) else world,
             start=(defaults.start if world is None else None) if start is None else start,
@@ -99,6 +121,9 @@ class NavigatorCore(Node):
         set_sim_time_source(self._sim_seconds)
         self._waits = NavigatorWaits(self._advance, lambda: round(self._sim_seconds() * S_TO_NS))
         self._waits.register()
+        warning = None if self.nav2_configuration is None else self.nav2_configuration.warning()
+        if warning is not None:
+            self.get_logger().warning(warning)
         self._setup()
 
     def _setup(self) -> None:
@@ -108,7 +133,7 @@ class NavigatorCore(Node):
 
     def _build(self, world: World, start: Pose2D) -> tuple[SimulatedRobot, NavigationServer]:
         rig = build_simulated_robot(self._robot_model, world, start, self._seed)
-        return rig, build_navigation(rig.sim, rig.base, rig.lidar, world)
+        return rig, build_navigation(rig.sim, rig.base, rig.lidar, world, params=self._params)
 
     def _sim_seconds(self) -> float:
         return self._time_offset + self._rig.sim.time

@@ -15,6 +15,9 @@ recovery behaviours, and at most one running task. Every task method returns a
   forgotten what the lidar sees; a clear forgets only what it no longer sees;
 - the active task's tick at the controller rate (20 Hz; behaviours cycle at 10 Hz).
 
+Each rate runs at the nearest whole number of physics steps (a 15 Hz controller on a 5 ms
+step runs every 65 ms), as a rate from a Nav2 parameter file need not divide the step.
+
 Goals while a task runs are preempted, or replace the running task, as Nav2's action servers
 do (:mod:`baobab.nav.task_slot`); ``cancel()`` (or the handle's) halts the task and commands
 zero velocity at once. Scans reach the costmaps as :mod:`baobab.nav.costmap_updates` says.
@@ -79,6 +82,10 @@ class NavigationParams:
     behaviors: BehaviorParams = field(default_factory=BehaviorParams)
     navigator: NavigatorParams = field(default_factory=NavigatorParams)
     waypoint_loop_rate: float = 20.0
+    waypoint_stop_on_failure: bool = True
+    """FollowWaypoints ends at the first missed waypoint unless its caller says otherwise."""
+    waypoint_pause: float = 0.0
+    """Pause (s, sim time) at each reached waypoint unless its caller says otherwise."""
 
 
 class NavigationServer:
@@ -143,10 +150,16 @@ class NavigationServer:
         if lidar is not None:
             lidar.subscribe(self.costmap_updates.on_scan)
         self._timers: list[PeriodicHandle] = [
-            sim.every(1.0 / p.local_costmap_update_hz, self._update_local, name="nav local"),
-            sim.every(1.0 / p.global_costmap_update_hz, self._update_global, name="nav global"),
             sim.every(
-                1.0 / p.controller.controller_frequency, self._on_control, name="nav control"
+                _period(sim, p.local_costmap_update_hz), self._update_local, name="nav local"
+            ),
+            sim.every(
+                _period(sim, p.global_costmap_update_hz), self._update_global, name="nav global"
+            ),
+            sim.every(
+                _period(sim, p.controller.controller_frequency),
+                self._on_control,
+                name="nav control",
             ),
         ]
 
@@ -172,8 +185,8 @@ class NavigationServer:
     def follow_waypoints(
         self,
         waypoints: Sequence[Pose2D],
-        wait_at_waypoint: float = 0.0,
-        stop_on_failure: bool = True,
+        wait_at_waypoint: float | None = None,
+        stop_on_failure: bool | None = None,
         *,
         number_of_loops: int = 0,
         goal_index: int = 0,
@@ -182,8 +195,14 @@ class NavigationServer:
 
         ``missed_waypoints`` in the feedback lists the waypoints that could not be reached;
         with ``stop_on_failure`` the first one ends the task (STOP_ON_MISSED_WAYPOINT).
+        Either left at None takes the server's setting (``params.waypoint_pause``,
+        ``params.waypoint_stop_on_failure``: Nav2's waypoint follower parameters).
         """
         points = list(waypoints)
+        if wait_at_waypoint is None:
+            wait_at_waypoint = self.params.waypoint_pause
+        if stop_on_failure is None:
+            stop_on_failure = self.params.waypoint_stop_on_failure
 
         def make() -> ServerTask:
             return WaypointFollower(
@@ -322,6 +341,13 @@ class NavigationServer:
         return self.tasks.handle
 
     @property
+    def rates(self) -> dict[str, float]:
+        """The rates (Hz) its periodic callbacks run at, by name: ``nav local`` and ``nav
+        global`` (costmap updates), ``nav control`` (the controller and the tasks)."""
+        dt = self.sim.physics_dt
+        return {timer.name: 1.0 / (timer.period_steps * dt) for timer in self._timers}
+
+    @property
     def current_path(self) -> Path | None:
         """The path the controller follows now (None when no task drives)."""
         return None if self.tasks.handle is None else self.follower.path
@@ -441,6 +467,11 @@ class NavigationServer:
         )
         self._last_pose = pose
         self.tasks.tick(now)
+
+
+def _period(sim: Simulation, rate: float) -> float:
+    """The period (s) of ``rate`` (Hz) as a whole number of physics steps, at least one."""
+    return max(round(1.0 / (rate * sim.physics_dt)), 1) * sim.physics_dt
 
 
 def _checked(behavior: Behavior, disable_collision_checks: bool) -> Behavior:
