@@ -354,3 +354,42 @@ def test_nav2_params_command_refuses_a_bad_file_on_one_line(
     assert captured.out == ""
     assert captured.err.count("\n") == 1 and captured.err.startswith(f"{path}:5:7: controller")
     assert main(["nav2-params", str(path), "--nav2-substitute"]) == 0
+
+
+SCRIPT = """\
+from nav2_simple_commander.robot_navigator import BasicNavigator
+
+navigator = BasicNavigator()
+print("speed", navigator.server.follower.controller.params.desired_linear_vel)
+navigator.destroy_node()
+"""
+
+
+def test_nav2_command_configures_the_scripts_navigator(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    script = tmp_path / "speed.py"
+    script.write_text(SCRIPT)
+    code = main(["nav2", str(script), "--world", "walls", "--nav2-params", str(BRINGUP)])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert "speed 0.22" in captured.out
+    assert captured.err.count("parameter(s) baobab does not use") == 1
+    mppi = tmp_path / "mppi.yaml"
+    mppi.write_text(MPPI)
+    options = ["--world", "walls", "--nav2-params", str(mppi)]
+    assert main(["nav2", str(script), *options]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.startswith(f"{mppi}:5:7: controller plugin")
+    assert main(["nav2", str(script), *options, "--nav2-substitute"]) == 0
+    assert "speed 0.15" in capsys.readouterr().out
+
+
+def test_teleop_refuses_a_bad_parameter_file_before_it_needs_a_terminal(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("controller_server:\n  ros__parameters:\n    controller_frequency: -1\n")
+    assert main(["teleop", "--world", "cafe", "--nav2-params", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"{bad}:3:5: controller_frequency (Hz) must be positive")

@@ -1,8 +1,10 @@
-"""``baobab nav2 SCRIPT.py --world NAME [--start X,Y,YAW] [--seed N] [--realtime]``.
+"""``baobab nav2 SCRIPT.py --world NAME [--start X,Y,YAW] [--seed N] [--realtime]
+[--nav2-params FILE [--nav2-substitute]]``.
 
 Runs a Nav2 Simple Commander script as it is (:func:`baobab.nav.script_runner.run_nav2_script`):
 its ``BasicNavigator()`` builds the given world with the robot at ``--start`` (default: the
-world's spawn), seeded with ``--seed``, paced to the wall clock with ``--realtime``. The
+world's spawn), seeded with ``--seed``, paced to the wall clock with ``--realtime``, its
+navigation stack configured by the Nav2 parameter file ``--nav2-params``. The
 script's output and exit status pass through unchanged. A mistake in the arguments (an unknown
 world, a malformed or blocked start pose, a negative seed) exits 2 with one line on standard
 error before the script runs.
@@ -14,6 +16,7 @@ import argparse
 import math
 import sys
 
+from baobab.missions.cli.nav2_params_command import add_nav2_params_options
 from baobab.missions.run.exit_codes import EXIT_INVALID
 from baobab.sim.errors import BaobabError, clip, one_line
 from baobab.sim.world import Pose2D, World, load_world
@@ -36,6 +39,7 @@ def configure_nav2(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--realtime", action="store_true", help="pace the simulation to the wall clock"
     )
+    add_nav2_params_options(parser)
 
 
 def nav2_command(args: argparse.Namespace) -> int:
@@ -53,6 +57,13 @@ def nav2_command(args: argparse.Namespace) -> int:
         print(one_line(f"baobab nav2: {exc}"), file=sys.stderr)
         return EXIT_INVALID
     defaults = {"world": args.world, "start": start, "seed": seed, "realtime": args.realtime}
+    if args.nav2_params is not None:
+        from baobab.nav.nav2_configuration import load_nav2_params
+
+        # Refused here, before the script runs; the script's navigators read it again.
+        load_nav2_params(args.nav2_params, substitute=args.nav2_substitute)
+        defaults["nav2_params"] = args.nav2_params
+        defaults["nav2_substitute"] = args.nav2_substitute
     return run_nav2_script(args.script, navigator_defaults=defaults)
 
 

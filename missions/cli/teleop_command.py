@@ -24,6 +24,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, TextIO
 
+from baobab.missions.cli.nav2_params_command import add_nav2_params_options
 from baobab.missions.run.exit_codes import EXIT_INVALID, EXIT_OK
 from baobab.robots.turtlebot3.teleop import LAYOUTS, layout_named
 from baobab.robots.turtlebot3.teleop_terminal import (
@@ -36,7 +37,7 @@ from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import World, load_world
 
 if TYPE_CHECKING:
-    from baobab.nav.server import NavigationServer
+    from baobab.nav.server import NavigationParams, NavigationServer
 
 TICK = 0.05
 """Sim time (s) advanced per loop turn; also the resolution of key holds."""
@@ -82,9 +83,12 @@ class TeleopSession:
     Args:
         world: where to drive; the robot starts at its default spawn.
         keys: the key rules (layout, hold time, speeds).
+        params: the navigation settings (``--nav2-params``); the defaults when None.
     """
 
-    def __init__(self, world: World, keys: TerminalKeys) -> None:
+    def __init__(
+        self, world: World, keys: TerminalKeys, params: NavigationParams | None = None
+    ) -> None:
         from baobab.nav.server import build_navigation  # the navigation stack loads slowly
         from baobab.robots.turtlebot3.robot import build_turtlebot3_sim  # MuJoCo: only to drive
 
@@ -92,7 +96,7 @@ class TeleopSession:
         self.keys = keys
         self.sim, self.robot = build_turtlebot3_sim(world)
         self.server: NavigationServer = build_navigation(
-            self.sim, self.robot.base, self.robot.lidar, world
+            self.sim, self.robot.base, self.robot.lidar, world, params=params
         )
         self.handle = self.server.assisted_teleop(0.0)
 
@@ -217,6 +221,7 @@ def configure_teleop(parser: argparse.ArgumentParser) -> None:
         metavar="SECONDS",
         help=f"how long one key press keeps moving the robot (default {DEFAULT_HOLD_TIME:g})",
     )
+    add_nav2_params_options(parser)
 
 
 def _positive_seconds(text: str) -> float:
@@ -234,9 +239,19 @@ def teleop_command(args: argparse.Namespace) -> int:
 
     Raises:
         WorldError: for an unknown world (the CLI prints it and exits 2).
+        Nav2ParamsError: a parameter file that cannot be used (exit 2).
         NavigatorSetupError: the world's default spawn is not free for the robot (exit 2).
     """
     world = load_world(args.world)
+    params = None
+    if args.nav2_params is not None:
+        from baobab.nav.nav2_configuration import load_nav2_params
+
+        configuration = load_nav2_params(args.nav2_params, substitute=args.nav2_substitute)
+        params = configuration.params
+        warning = configuration.warning()
+        if warning is not None:
+            print(f"warning: {warning}", file=sys.stderr)
     from baobab.nav.navigator_robot import check_free
     from baobab.robots.turtlebot3 import BURGER
 
@@ -246,7 +261,7 @@ def teleop_command(args: argparse.Namespace) -> int:
         print("baobab teleop: needs an interactive terminal (stdin is not a TTY)", file=sys.stderr)
         return EXIT_INVALID
     keys = TerminalKeys(layout_named(args.layout), hold_time=args.hold)
-    session = TeleopSession(world, keys)
+    session = TeleopSession(world, keys, params)
     out = sys.stdout
     width = _terminal_width()
     out.write(help_text(keys, world.name, width) + "\n\x1b[?25l")

@@ -16,9 +16,9 @@ Order of work (each step's errors come before the next step's):
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pydantic import TypeAdapter, ValidationError
 
@@ -45,10 +45,13 @@ from baobab.missions.language.params import (
 )
 from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
 from baobab.robots.catalog import ROBOTS, RobotInfo
-from baobab.sim.errors import unknown_name
+from baobab.sim.errors import BaobabError, unknown_name
 from baobab.sim.input_files import file_kind_problem
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
 from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml, read_yaml_text
+
+if TYPE_CHECKING:
+    from baobab.nav.nav2_params_file import Nav2ParamsFile
 
 SCHEMA_HEADER = "# yaml-language-server: $schema="
 """The editor comment that bundled and generated missions begin with, before the schema's
@@ -79,6 +82,10 @@ class Mission:
         expect: the expectations, if any.
         document: the located YAML document (for messages about nodes).
         noise: the run's sensor noise (off unless the file asks for it).
+        nav2_params: the Nav2 parameter file that configures the navigation stack
+            (``nav2_params:`` or ``--nav2-params``), read and checked; None without one.
+        nav2_substitute: run the stated substitutes of plugins baobab does not have.
+        nav2_warning: the one warning about the file's parameters baobab does not use.
     """
 
     path: Path
@@ -99,6 +106,9 @@ class Mission:
     expect: Expect | None
     document: LocatedDocument
     noise: Noise = field(default_factory=Noise)
+    nav2_params: Nav2ParamsFile | None = None
+    nav2_substitute: bool = False
+    nav2_warning: str | None = None
 
 
 def load_mission(
@@ -107,6 +117,8 @@ def load_mission(
     *,
     text: str | None = None,
     registry: Registry | None = None,
+    nav2_params: str | Path | None = None,
+    nav2_substitute: bool = False,
 ) -> Mission:
     """Load, substitute and validate a mission file.
 
@@ -115,18 +127,24 @@ def load_mission(
         overrides: ``--set`` values by parameter name, as written on the command line.
         text: the file's content, if already in memory.
         registry: node types; default: :func:`default_registry`.
+        nav2_params: ``--nav2-params``: a Nav2 parameter file (anywhere: the user named it)
+            in place of the mission's ``nav2_params:``.
+        nav2_substitute: ``--nav2-substitute``: accept the stated substitutes of the plugins
+            baobab does not have.
 
     Raises:
         MissionError: the first problem, as ``path:line:col: message``.
         WorldError: a problem inside the world file the mission names.
+        Nav2ParamsError: a problem inside the Nav2 parameter file (located there).
     """
     mission_path = Path(path)
     if text is None:
         text = read_yaml_text(mission_path, MissionError)
     document = load_located_yaml(mission_path, MissionError, text=text)
-    return _Loader(mission_path, document, text, registry or default_registry()).load(
+    mission = _Loader(mission_path, document, text, registry or default_registry()).load(
         overrides or {}
     )
+    return _with_nav2_params(mission, nav2_params, nav2_substitute)
 
 
 class _Loader:
@@ -146,7 +164,7 @@ class _Loader:
         data = self._top_level()
         specs = self._params(data.get("params", {}))
         values = resolve_values(specs, overrides, self.document)
-        for key in ("mission", "world", "robot", "seed", "params", "locations"):
+        for key in ("mission", "world", "robot", "nav2_params", "seed", "params", "locations"):
             if key in data:
                 check_no_placeholders(self.document, data[key], (key,))
         substitution = Substitution(
@@ -172,6 +190,9 @@ class _Loader:
             ) from None
         robot = ROBOTS[file.robot]
         world, world_name = self._world(file.world, robot)
+        nav2_params = None
+        if file.nav2_params is not None:
+            nav2_params = self._file_in_folder("nav2_params", file.nav2_params)
         scope = MissionScope(
             robot, world, self._locations(file, robot, world), self.path.parent.resolve()
         )
@@ -203,6 +224,7 @@ class _Loader:
             expect=file.expect,
             document=self.document,
             noise=file.noise,
+            nav2_params=None if nav2_params is None else _read_nav2(nav2_params),
         )
 
     def _top_level(self) -> dict[str, Any]:
@@ -247,13 +269,18 @@ class _Loader:
             if written not in bundled:
                 raise self._error(("world",), unknown_name("world", written, bundled))
             return load_world(written), written
+        resolved = self._file_in_folder("world", written)
+        return load_world(resolved), str(resolved)
+
+    def _file_in_folder(self, key: str, written: str) -> Path:
+        """The file ``written`` under ``key`` names, checked to lie inside the mission's folder."""
         relative = Path(written)
         folder = self.path.parent.resolve()
         resolved = (folder / relative).resolve()
         if relative.is_absolute() or not resolved.is_relative_to(folder):
             raise self._error(
-                ("world",),
-                f"world file '{written}' is outside the mission's folder; give a bundled world "
+                (key,),
+                f"{key} file '{written}' is outside the mission's folder; give a bundled {key} "
                 "name or a path inside the folder",
             )
         try:
@@ -261,10 +288,10 @@ class _Loader:
         except OSError:
             problem = "does not exist"
         if problem == "does not exist":
-            raise self._error(("world",), f"no world file '{written}' in the mission's folder")
+            raise self._error((key,), f"no {key} file '{written}' in the mission's folder")
         if problem is not None:
-            raise self._error(("world",), f"world file '{written}' {problem}; expected a file")
-        return load_world(resolved), str(resolved)
+            raise self._error((key,), f"{key} file '{written}' {problem}; expected a file")
+        return resolved
 
     def _locations(
         self, file: MissionFile, robot: RobotInfo, world: World | None
@@ -315,3 +342,31 @@ class _Loader:
         if problem is not None:
             raise self._error(("start",), f"start {problem}")
         return pose.pose2d()
+
+
+def _read_nav2(path: Path) -> Nav2ParamsFile:
+    """The mission's Nav2 parameter file, read (its own errors are located in it)."""
+    from baobab.nav.nav2_params_file import read_nav2_params
+
+    return read_nav2_params(path)
+
+
+def _with_nav2_params(mission: Mission, override: str | Path | None, substitute: bool) -> Mission:
+    """``mission`` with ``--nav2-params`` in place of its own file, the file checked against
+    the navigation stack (types, ranges, plugins) and its warning made."""
+    params = mission.nav2_params
+    if override is not None:
+        from baobab.nav.nav2_params_file import read_nav2_params
+
+        params = read_nav2_params(override)
+    if params is None:
+        return mission
+    if not mission.robot.mobile:
+        message = f"robot '{mission.robot.name}' has no navigation stack for a Nav2 parameter file"
+        if override is not None:
+            raise BaobabError(f"--nav2-params: {message}")
+        raise located(mission.document, ("nav2_params",), message)
+    from baobab.nav.nav2_configuration import configure_navigation
+
+    warning = configure_navigation(params, substitute=substitute).warning()
+    return replace(mission, nav2_params=params, nav2_substitute=substitute, nav2_warning=warning)

@@ -374,6 +374,11 @@ class MissionFile(_Strict):
         description="a bundled world name, or a world file path inside the mission's folder",
     )
     robot: RobotName
+    nav2_params: str | None = Field(
+        default=None,
+        description="a Nav2 parameter file (nav2_params.yaml) inside the mission's folder that "
+        "configures the navigation stack",
+    )
     start: Annotated[Any, POSE_REF_SCHEMA] = Field(
         default=None, description="start pose or location; default: the world's spawn"
     )
