@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 from pathlib import Path as FilePath
 from typing import Any
 
-from baobab.nav.nav2_param_table import NODE_ROWS, Mapped, is_ros_only
+from baobab.nav.nav2_param_rows import Mapped
+from baobab.nav.nav2_param_table import NODE_ROWS, is_ros_only
 from baobab.nav.nav2_params_file import (
     ALL_NODES,
     MAPPED_NODES,
@@ -30,7 +31,7 @@ from baobab.nav.nav2_params_file import (
     read_nav2_params,
 )
 from baobab.nav.nav2_plugin_lists import PluginUse, plugin_uses
-from baobab.nav.server import NavigationParams
+from baobab.nav.navigation_params import NavigationParams
 
 FILE = "file"
 DEFAULT = "default"
@@ -182,12 +183,33 @@ def configure_navigation(
     builder = _Builder(file, base or NavigationParams())
     for node, rows in NODE_ROWS.items():
         builder.apply_rows(node, "", rows)
+    if file.nodes.get("velocity_smoother"):
+        _smoother_in_chain(builder)
     for use in plugin_uses(file, substitute=substitute):
         _apply_plugin(builder, use)
     result = builder.result
     result.params = _with_changes(builder.base, builder.changes)
     _sort_leftovers(builder)
     return result
+
+
+def _smoother_in_chain(builder: _Builder) -> None:
+    """A file that configures the velocity smoother runs it (baobab's stack has none else)."""
+    target = "velocity_smoother.enabled"
+    builder.set(target, True)
+    line = builder.file.node_marks["velocity_smoother"][0]
+    builder.result.settings.append(
+        Setting(
+            "velocity_smoother",
+            "(the file configures it)",
+            True,
+            "",
+            FILE,
+            (target,),
+            "the smoother runs between the stack and the base",
+            line,
+        )
+    )
 
 
 def _apply_plugin(builder: _Builder, use: PluginUse) -> None:

@@ -14,135 +14,25 @@ servers baobab does not run) are accepted and ignored: :func:`is_ros_only`.
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any
-
-from baobab.sim.errors import clip
-
-Check = Callable[[Any], str | None]
-"""Returns what is wrong with a value of the right type (None: nothing)."""
-
-
-def positive(value: float) -> str | None:
-    """Refuses zero and negative values."""
-    return None if value > 0 else f"must be positive, got {value}"
-
-
-def non_negative(value: float) -> str | None:
-    """Refuses negative values."""
-    return None if value >= 0 else f"must not be negative, got {value}"
-
-
-def non_positive(value: float) -> str | None:
-    """Refuses positive values (Nav2's deceleration limits are negative)."""
-    return None if value <= 0 else f"must not be positive (a deceleration), got {value}"
-
-
-def tolerance_or_unlimited(value: float) -> str | None:
-    """A non-negative duration, or Nav2's -1 for no limit."""
-    return None if value >= 0 or value == -1 else f"must be >= 0 or -1 (no limit), got {value}"
-
-
-@dataclass(frozen=True)
-class Mapped:
-    """A Nav2 parameter baobab uses.
-
-    Attributes:
-        name: the name Nav2 declares (inside the plugin's namespace for a plugin's rows).
-        targets: the ``NavigationParams`` fields it sets (dotted; ``{costmap}`` placeholder).
-        kind: ``float`` (an int is accepted too), ``int``, ``bool`` or ``str``.
-        unit: its unit as Nav2 states it ("" for none).
-        default: Nav2's default (code default unless nav2_bringup's file is the usual one).
-        meaning: what it does in Nav2, in a few words.
-        check: a range check beyond the type.
-        convert: Nav2's value -> baobab's (units differ, or a sentinel such as -1).
-        aliases: older names Nav2 still reads (``desired_linear_vel`` for ``max_linear_vel``).
-    """
-
-    name: str
-    targets: tuple[str, ...]
-    kind: type
-    unit: str
-    default: Any
-    meaning: str
-    check: Check | None = None
-    convert: Callable[[Any], Any] | None = None
-    aliases: tuple[str, ...] = ()
-
-    def problem(self, value: Any) -> str | None:
-        """What is wrong with ``value`` for this parameter, or None."""
-        if not _has_kind(value, self.kind):
-            return f"must be {_KIND_NAMES[self.kind]}, got {_shown(value)}"
-        return None if self.check is None else self.check(value)
-
-    def baobab_value(self, value: Any) -> Any:
-        """``value`` (already checked) as the ``NavigationParams`` fields hold it."""
-        if self.kind is float:
-            value = float(value)
-        return value if self.convert is None else self.convert(value)
-
-
-_KIND_NAMES = {float: "a number", int: "a whole number", bool: "true or false", str: "a string"}
-
-
-def _has_kind(value: Any, kind: type) -> bool:
-    if isinstance(value, bool):
-        return kind is bool
-    if kind is float:
-        return isinstance(value, int | float)
-    return isinstance(value, kind)
-
-
-def _shown(value: Any) -> str:
-    if isinstance(value, str):
-        return f"'{clip(value)}'"
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    return clip(value)
-
-
-def _row(
-    name: str,
-    targets: str | tuple[str, ...],
-    kind: type,
-    unit: str,
-    default: Any,
-    meaning: str,
-    check: Check | None = None,
-    **more: Any,
-) -> Mapped:
-    fields = (targets,) if isinstance(targets, str) else targets
-    return Mapped(name, fields, kind, unit, default, meaning, check, **more)
-
-
-def _unlimited(value: float) -> float:
-    return math.inf if value < 0 else value
-
-
-def _milliseconds(value: int) -> float:
-    return value / 1000.0
-
-
-_NONE = None
-"""No range check beyond the type (spelled out in the compact row tables below)."""
-
-
-def _same_names(prefix: str, *specs: tuple[Any, ...]) -> tuple[Mapped, ...]:
-    """Rows whose ``NavigationParams`` field is ``prefix`` + the Nav2 name.
-
-    Each spec is ``(name, kind, unit, default, meaning, check)``.
-    """
-    return tuple(
-        Mapped(name, (prefix + name,), kind, unit, default, meaning, check)
-        for name, kind, unit, default, meaning, check in specs
-    )
-
+from baobab.nav.nav2_param_rows import (
+    Mapped,
+    axes,
+    each_non_negative,
+    each_non_positive,
+    milliseconds,
+    non_negative,
+    non_positive,
+    one_of,
+    positive,
+    row,
+    same_names,
+    tolerance_or_unlimited,
+    unlimited,
+)
 
 _COSTMAP_ROWS = (
-    _row("resolution", "{costmap}.resolution", float, "m/cell", 0.1, "cell size", positive),
-    _row(
+    row("resolution", "{costmap}.resolution", float, "m/cell", 0.1, "cell size", positive),
+    row(
         "update_frequency",
         "{costmap}_update_hz",
         float,
@@ -153,8 +43,8 @@ _COSTMAP_ROWS = (
     ),
 )
 _LOCAL_COSTMAP_ROWS = (
-    _row("width", "local_costmap_size.0", float, "m", 5.0, "rolling window width", positive),
-    _row("height", "local_costmap_size.1", float, "m", 5.0, "rolling window height", positive),
+    row("width", "local_costmap_size.0", float, "m", 5.0, "rolling window width", positive),
+    row("height", "local_costmap_size.1", float, "m", 5.0, "rolling window height", positive),
 )
 _RPP = "controller.rpp."
 
@@ -162,7 +52,7 @@ NODE_ROWS: dict[str, tuple[Mapped, ...]] = {
     "global_costmap": _COSTMAP_ROWS,
     "local_costmap": _COSTMAP_ROWS + _LOCAL_COSTMAP_ROWS,
     "controller_server": (
-        _row(
+        row(
             "controller_frequency",
             ("controller.controller_frequency", _RPP + "controller_frequency"),
             float,
@@ -171,7 +61,7 @@ NODE_ROWS: dict[str, tuple[Mapped, ...]] = {
             "control loop rate",
             positive,
         ),
-        _row(
+        row(
             "failure_tolerance",
             "controller.failure_tolerance",
             float,
@@ -179,10 +69,10 @@ NODE_ROWS: dict[str, tuple[Mapped, ...]] = {
             0.0,
             "how long the controller may fail before FollowPath fails (-1: forever)",
             tolerance_or_unlimited,
-            convert=_unlimited,
+            convert=unlimited,
         ),
     ),
-    "behavior_server": _same_names(
+    "behavior_server": same_names(
         "behaviors.",
         ("cycle_frequency", float, "Hz", 10.0, "behaviour loop rate", positive),
         ("simulate_ahead_time", float, "s", 2.0, "collision look-ahead", non_negative),
@@ -196,8 +86,8 @@ NODE_ROWS: dict[str, tuple[Mapped, ...]] = {
         ("simulation_time_step", float, "s", 0.1, "AssistedTeleop look-ahead step", positive),
     ),
     "waypoint_follower": (
-        _row("loop_rate", "waypoint_loop_rate", float, "Hz", 20.0, "waypoint loop rate", positive),
-        _row(
+        row("loop_rate", "waypoint_loop_rate", float, "Hz", 20.0, "waypoint loop rate", positive),
+        row(
             "stop_on_failure",
             "waypoint_stop_on_failure",
             bool,
@@ -206,11 +96,73 @@ NODE_ROWS: dict[str, tuple[Mapped, ...]] = {
             "end FollowWaypoints at the first missed waypoint",
         ),
     ),
+    "velocity_smoother": (
+        *(
+            row(
+                name,
+                f"velocity_smoother.{name}",
+                tuple,
+                unit,
+                default,
+                meaning,
+                check,
+                convert=axes,
+            )
+            for name, unit, default, meaning, check in (
+                (
+                    "max_velocity",
+                    "m/s, rad/s",
+                    [0.5, 0.0, 2.5],
+                    "highest command",
+                    each_non_negative,
+                ),
+                (
+                    "min_velocity",
+                    "m/s, rad/s",
+                    [-0.5, 0.0, -2.5],
+                    "lowest command",
+                    each_non_positive,
+                ),
+                ("max_accel", "m/s^2, rad/s^2", [2.5, 0.0, 3.2], "speeding up", each_non_negative),
+                (
+                    "max_decel",
+                    "m/s^2, rad/s^2",
+                    [-2.5, 0.0, -3.2],
+                    "slowing down",
+                    each_non_positive,
+                ),
+                (
+                    "deadband_velocity",
+                    "m/s, rad/s",
+                    [0.0, 0.0, 0.0],
+                    "speeds set to 0 below",
+                    each_non_negative,
+                ),
+            )
+        ),
+        row(
+            "scale_velocities",
+            "velocity_smoother.scale_velocities",
+            bool,
+            "",
+            False,
+            "keep the curvature when limiting",
+        ),
+        row(
+            "feedback",
+            "velocity_smoother.feedback",
+            str,
+            "",
+            "OPEN_LOOP",
+            "ramp from the last command or from odometry",
+            one_of("OPEN_LOOP", "CLOSED_LOOP"),
+        ),
+    ),
 }
 """Rows of each node's own parameters (not a plugin's)."""
 
 _RPP_ROWS = (
-    _row(
+    row(
         "desired_linear_vel",
         _RPP + "desired_linear_vel",
         float,
@@ -220,7 +172,7 @@ _RPP_ROWS = (
         positive,
         aliases=("max_linear_vel",),
     ),
-    *_same_names(
+    *same_names(
         _RPP,
         ("max_angular_vel", float, "rad/s", 2.5, "turn rate limit", positive),
         ("lookahead_dist", float, "m", 0.6, "carrot distance", positive),
@@ -233,10 +185,10 @@ _RPP_ROWS = (
             "",
             False,
             "lookahead grows with speed",
-            _NONE,
+            None,
         ),
-        ("use_interpolation", bool, "", True, "carrot interpolated on the path", _NONE),
-        ("use_rotate_to_heading", bool, "", True, "turn in place toward the path", _NONE),
+        ("use_interpolation", bool, "", True, "carrot interpolated on the path", None),
+        ("use_rotate_to_heading", bool, "", True, "turn in place toward the path", None),
         (
             "rotate_to_heading_min_angle",
             float,
@@ -247,7 +199,7 @@ _RPP_ROWS = (
         ),
         ("rotate_to_heading_angular_vel", float, "rad/s", 1.8, "in-place turn rate", positive),
         ("max_angular_accel", float, "rad/s^2", 3.2, "in-place turn acceleration", positive),
-        ("use_regulated_linear_velocity_scaling", bool, "", True, "slow on tight curves", _NONE),
+        ("use_regulated_linear_velocity_scaling", bool, "", True, "slow on tight curves", None),
         (
             "regulated_linear_scaling_min_radius",
             float,
@@ -270,7 +222,7 @@ _RPP_ROWS = (
             "",
             True,
             "slow near obstacles",
-            _NONE,
+            None,
         ),
         ("cost_scaling_dist", float, "m", 0.6, "obstacle distance where slowing starts", positive),
         ("cost_scaling_gain", float, "", 1.0, "how hard obstacles slow it", positive),
@@ -284,7 +236,7 @@ _RPP_ROWS = (
             "goal distance where slowing starts",
             non_negative,
         ),
-        ("use_collision_detection", bool, "", True, "check the projected motion", _NONE),
+        ("use_collision_detection", bool, "", True, "check the projected motion", None),
         (
             "max_allowed_time_to_collision_up_to_carrot",
             float,
@@ -294,7 +246,7 @@ _RPP_ROWS = (
             positive,
         ),
     ),
-    _row(
+    row(
         "max_robot_pose_search_dist",
         _RPP + "max_robot_pose_search_dist",
         float,
@@ -305,7 +257,7 @@ _RPP_ROWS = (
     ),
 )
 _SIMPLE_GOAL_ROWS = (
-    _row(
+    row(
         "xy_goal_tolerance",
         ("controller.xy_goal_tolerance", _RPP + "goal_dist_tol"),
         float,
@@ -314,49 +266,49 @@ _SIMPLE_GOAL_ROWS = (
         "distance within which the goal is reached",
         non_negative,
     ),
-    *_same_names(
+    *same_names(
         "controller.",
         ("yaw_goal_tolerance", float, "rad", 0.25, "heading error of a reached goal", non_negative),
-        ("stateful", bool, "", True, "once within xy, only the heading is checked", _NONE),
+        ("stateful", bool, "", True, "once within xy, only the heading is checked", None),
     ),
 )
-_SIMPLE_PROGRESS_ROWS = _same_names(
+_SIMPLE_PROGRESS_ROWS = same_names(
     "controller.",
     ("required_movement_radius", float, "m", 0.5, "distance the robot must move", non_negative),
     ("movement_time_allowance", float, "s", 10.0, "time it has to move that far", positive),
 )
 _SHARED_PLANNER_ROWS = (
-    ("allow_unknown", bool, "", True, "plan through unknown space", _NONE),
-    ("use_final_approach_orientation", bool, "", False, "last pose faces along the path", _NONE),
+    ("allow_unknown", bool, "", True, "plan through unknown space", None),
+    ("use_final_approach_orientation", bool, "", False, "last pose faces along the path", None),
 )
-_NAVFN_ROWS = _same_names(
+_NAVFN_ROWS = same_names(
     "planner.",
     ("tolerance", float, "m", 0.5, "how far a blocked goal's substitute may be", non_negative),
     *_SHARED_PLANNER_ROWS,
 )
-_SMAC_2D_ROWS = _same_names(
+_SMAC_2D_ROWS = same_names(
     "planner.",
     ("tolerance", float, "m", 0.125, "how far a blocked goal's substitute may be", non_negative),
     ("cost_travel_multiplier", float, "", 1.0, "how strongly paths avoid cost", non_negative),
     ("max_iterations", int, "", 1_000_000, "search budget (cells expanded)", positive),
     *_SHARED_PLANNER_ROWS,
 )
-_SIMPLE_SMOOTHER_ROWS = _same_names(
+_SIMPLE_SMOOTHER_ROWS = same_names(
     "smoother.",
     ("tolerance", float, "", 1e-10, "change below which an iteration stops", positive),
     ("max_its", int, "", 1000, "iterations per round", positive),
     ("w_data", float, "", 0.2, "weight toward the original path", non_negative),
     ("w_smooth", float, "", 0.3, "weight toward a smooth path", non_negative),
-    ("do_refinement", bool, "", True, "smooth the result again", _NONE),
+    ("do_refinement", bool, "", True, "smooth the result again", None),
     ("refinement_num", int, "", 2, "extra rounds", non_negative),
 )
-_INFLATION_ROWS = _same_names(
+_INFLATION_ROWS = same_names(
     "{costmap}.",
     ("inflation_radius", float, "m", 0.55, "distance from obstacles that costs", non_negative),
     ("cost_scaling_factor", float, "1/m", 10.0, "how fast the cost falls off", positive),
 )
 OBSERVATION_ROWS = (
-    _row(
+    row(
         "obstacle_max_range",
         "{costmap}.obstacle.obstacle_max_range",
         float,
@@ -366,7 +318,7 @@ OBSERVATION_ROWS = (
         positive,
         aliases=("obstacle_range",),
     ),
-    _row(
+    row(
         "raytrace_max_range",
         "{costmap}.obstacle.raytrace_max_range",
         float,
@@ -376,7 +328,7 @@ OBSERVATION_ROWS = (
         positive,
         aliases=("raytrace_range",),
     ),
-    *_same_names(
+    *same_names(
         "{costmap}.obstacle.",
         ("obstacle_min_range", float, "m", 0.0, "nearest hit that marks", non_negative),
         ("raytrace_min_range", float, "m", 0.0, "nearest a beam clears from", non_negative),
@@ -384,7 +336,7 @@ OBSERVATION_ROWS = (
 )
 """Rows of one observation source of an obstacle or voxel layer (under ``<layer>.<source>.``)."""
 _WAIT_AT_WAYPOINT_ROWS = (
-    _row(
+    row(
         "waypoint_pause_duration",
         "waypoint_pause",
         int,
@@ -392,7 +344,7 @@ _WAIT_AT_WAYPOINT_ROWS = (
         0,
         "pause at each reached waypoint",
         non_negative,
-        convert=_milliseconds,
+        convert=milliseconds,
     ),
 )
 

@@ -19,7 +19,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from baobab.nav.nav2_param_table import OBSERVATION_ROWS, Mapped
+from baobab.nav.nav2_param_rows import Mapped
+from baobab.nav.nav2_param_table import OBSERVATION_ROWS
 from baobab.nav.nav2_params_file import Nav2Parameter, Nav2ParamsFile
 from baobab.nav.nav2_plugins import (
     PLUGIN_LISTS,

@@ -14,7 +14,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from baobab.nav.nav2_param_table import PLUGIN_ROWS, Mapped, non_negative, positive
+from baobab.nav.nav2_param_rows import Mapped, non_negative, positive
+from baobab.nav.nav2_param_table import PLUGIN_ROWS
 
 _RPP_CLASS = "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController"
 

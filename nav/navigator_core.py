@@ -19,11 +19,12 @@ from pathlib import Path as FilePath
 from baobab.nav import msgs
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
 from baobab.nav.nav2_configuration import Nav2Configuration, load_nav2_params
+from baobab.nav.navigation_params import NavigationParams
 from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot
 from baobab.nav.navigator_time import NavigatorWaits
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
-from baobab.nav.server import NavigationParams, NavigationServer, build_navigation
+from baobab.nav.server import NavigationServer, build_navigation
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
 from baobab.sim.world import Pose2D, World, load_world

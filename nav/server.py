@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -41,51 +40,30 @@ from baobab.nav.behaviors import (
     BackUp,
     Behavior,
     BehaviorContext,
-    BehaviorParams,
     DriveOnHeading,
     Spin,
     TeleopInput,
     Wait,
 )
-from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
+from baobab.nav.controller_server import FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
 from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
-from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
+from baobab.nav.layered_costmap import LayeredCostmap
 from baobab.nav.layers import StaticLayer
-from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
+from baobab.nav.navigate import NavigateTask, NavigationMetrics
+from baobab.nav.navigation_params import NavigationParams
 from baobab.nav.path import Path
-from baobab.nav.planner import GlobalPlanner, PlannerParams
-from baobab.nav.smoother import SimpleSmoother
+from baobab.nav.planner import GlobalPlanner
 from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
+from baobab.nav.velocity_smoother import VelocitySmoother
 from baobab.nav.waypoints import WaypointFollower
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
-
-
-@dataclass(frozen=True)
-class NavigationParams:
-    """Every navigation setting; Nav2's defaults with the TurtleBot3 Burger's figures."""
-
-    global_costmap: CostmapParams = field(default_factory=CostmapParams)
-    local_costmap: CostmapParams = field(default_factory=CostmapParams)
-    local_costmap_size: tuple[float, float] = (3.0, 3.0)
-    local_costmap_update_hz: float = 5.0
-    global_costmap_update_hz: float = 1.0
-    planner: PlannerParams = field(default_factory=PlannerParams)
-    smoother: SimpleSmoother = field(default_factory=SimpleSmoother)
-    controller: ControllerParams = field(default_factory=ControllerParams)
-    behaviors: BehaviorParams = field(default_factory=BehaviorParams)
-    navigator: NavigatorParams = field(default_factory=NavigatorParams)
-    waypoint_loop_rate: float = 20.0
-    waypoint_stop_on_failure: bool = True
-    """FollowWaypoints ends at the first missed waypoint unless its caller says otherwise."""
-    waypoint_pause: float = 0.0
-    """Pause (s, sim time) at each reached waypoint unless its caller says otherwise."""
 
 
 class NavigationServer:
@@ -123,15 +101,22 @@ class NavigationServer:
         self.local_layers = LayeredCostmap.local_costmap(
             world, base.pose(), p.local_costmap, p.local_costmap_size, local_static
         )
+        self.velocity_smoother = (
+            VelocitySmoother(base, self._clock, p.velocity_smoother)
+            if p.velocity_smoother.enabled
+            else None
+        )
+        """Nav2's velocity smoother between the stack and the base, when the settings ask."""
+        drive: MobileBase = self.velocity_smoother or base
         self.planner = GlobalPlanner(p.planner, p.smoother)
         self.through_poses = ThroughPosesPlanner(self.planner)
         self.smoother = p.smoother
-        self.follower = PathFollower(base, self.local_costmap, p.controller)
+        self.follower = PathFollower(drive, self.local_costmap, p.controller)
         self.teleop_input = TeleopInput()
         self.teleop_stats = AssistedTeleopStats()
         self.costmap_updates = CostmapUpdates(base, self.local_layers, self.global_layers)
         self.behavior_context = BehaviorContext(
-            base,
+            drive,
             self.local_costmap,
             p.behaviors,
             self.teleop_input,
@@ -139,7 +124,7 @@ class NavigationServer:
             teleop_stats=self.teleop_stats,
         )
         self.metrics = NavigationMetrics()
-        self.tasks = TaskSlot(base, self.follower, self._clock)
+        self.tasks = TaskSlot(drive, self.follower, self._clock)
         self.action_servers: dict[str, ActionServer] = {}
         """Servers of the Nav2 actions this server does not run, by action name (none yet)."""
         self.services: dict[str, Callable[..., Any]] = {}

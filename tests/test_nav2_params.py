@@ -11,7 +11,7 @@ import pytest
 from baobab.missions.cli.command_line import main
 from baobab.nav.nav2_configuration import DEFAULT, FILE, Nav2Configuration, load_nav2_params
 from baobab.nav.nav2_params_file import Nav2ParamsError
-from baobab.nav.server import NavigationParams
+from baobab.nav.navigation_params import NavigationParams
 
 PARAMS = Path(__file__).parent / "nav2_params"
 BRINGUP = PARAMS / "bringup_rpp.yaml"

@@ -164,3 +164,20 @@ def test_the_waypoint_follower_pauses_as_the_file_says(tmp_path: Path) -> None:
         wait(nav, 30.0)
         assert nav.getResult() is TaskResult.SUCCEEDED
         assert nav.server.sim.time - start >= 3.0
+
+
+def test_the_velocity_smoother_limits_the_driven_speed(tmp_path: Path) -> None:
+    text = """\
+    velocity_smoother:
+      ros__parameters:
+        max_velocity: [0.12, 0.0, 1.0]
+        min_velocity: [-0.12, 0.0, -1.0]
+    """
+    with navigator(tmp_path, "smoothed", text, world="walls") as nav:
+        nav.goToPose(goal(2.0, 2.0))
+        fastest = 0.0
+        while not nav.isTaskComplete():
+            fastest = max(fastest, abs(nav.server.base.body_velocity()[0]))
+            assert nav.server.sim.time < 120.0
+        assert nav.getResult() is TaskResult.SUCCEEDED
+    assert 0.1 < fastest < 0.125  # RPP asks for 0.22 m/s

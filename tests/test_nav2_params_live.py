@@ -17,7 +17,8 @@ import pytest
 
 from baobab.nav import BasicNavigator
 from baobab.nav.nav2_configuration import FILE, load_nav2_params
-from baobab.nav.server import NavigationParams, NavigationServer
+from baobab.nav.navigation_params import NavigationParams
+from baobab.nav.server import NavigationServer
 from baobab.nav.waypoints import WaypointFollower
 from baobab.sim.world import Pose2D
 
@@ -101,6 +102,14 @@ EXPECTED: dict[str, Any] = {
     "local_costmap.obstacle.raytrace_max_range": 2.8,
     "local_costmap.obstacle.raytrace_min_range": 0.02,
     "local_costmap.use_static_layer": False,
+    "velocity_smoother.enabled": True,
+    "velocity_smoother.max_velocity": (0.2, 1.5),
+    "velocity_smoother.min_velocity": (-0.15, -1.5),
+    "velocity_smoother.max_accel": (1.5, 2.0),
+    "velocity_smoother.max_decel": (-1.8, -2.2),
+    "velocity_smoother.deadband_velocity": (0.01, 0.02),
+    "velocity_smoother.scale_velocities": True,
+    "velocity_smoother.feedback": "CLOSED_LOOP",
 }
 """Each ``NavigationParams`` field the file sets, with the value it must have (baobab units)."""
 
@@ -123,6 +132,7 @@ def _live(server: NavigationServer, waypoints: WaypointFollower, target: str) ->
         "planner": lambda: getattr(server.planner.params, rest),
         "smoother": lambda: getattr(server.planner.smoother, rest),
         "behaviors": lambda: getattr(server.behavior_context.params, rest),
+        "velocity_smoother": lambda: _smoother(server, rest),
     }
     if head in getters:
         return getters[head]()
@@ -148,6 +158,15 @@ def _live(server: NavigationServer, waypoints: WaypointFollower, target: str) ->
         "movement_time_allowance": follower.progress_checker,
     }.get(rest, follower)
     return getattr(checker.params if checker is follower else checker, rest)
+
+
+def _smoother(server: NavigationServer, name: str) -> Any:
+    """A velocity smoother setting; ``enabled``: whether one sits before the base."""
+    smoother = server.velocity_smoother
+    if name == "enabled":
+        return smoother is not None and server.follower.base is smoother
+    assert smoother is not None
+    return getattr(smoother.params, name)
 
 
 def _window_size(server: NavigationServer) -> tuple[float, float]:
@@ -194,8 +213,10 @@ def test_the_running_stack_reports_every_value_of_the_file(navigator: Any) -> No
 
 
 def _same(live: Any, expected: Any) -> bool:
-    if isinstance(expected, bool) or isinstance(live, bool):
-        return live is expected
+    if isinstance(expected, bool | str) or isinstance(live, bool | str):
+        return live == expected and type(live) is type(expected)
+    if isinstance(expected, tuple):
+        return len(live) == len(expected) and all(map(_same, live, expected))
     return math.isclose(live, expected, rel_tol=1e-9)
 
 

@@ -37,7 +37,8 @@ from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import World, load_world
 
 if TYPE_CHECKING:
-    from baobab.nav.server import NavigationParams, NavigationServer
+    from baobab.nav.navigation_params import NavigationParams
+    from baobab.nav.server import NavigationServer
 
 TICK = 0.05
 """Sim time (s) advanced per loop turn; also the resolution of key holds."""
