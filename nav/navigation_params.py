@@ -21,7 +21,8 @@ from baobab.nav.velocity_smoother import VelocitySmootherParams
 
 @dataclass(frozen=True)
 class NavigationParams:
-    """Every navigation setting; Nav2's defaults with the TurtleBot3 Burger's figures."""
+    """Every navigation setting: Nav2's defaults with a robot's figures
+    (:func:`~baobab.nav.robot_params.navigation_params`; the default robot's when built bare)."""
 
     global_costmap: CostmapParams = field(default_factory=CostmapParams)
     local_costmap: CostmapParams = field(default_factory=CostmapParams)

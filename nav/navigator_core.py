@@ -19,12 +19,13 @@ from pathlib import Path as FilePath
 from baobab.nav import msgs
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
 from baobab.nav.nav2_configuration import Nav2Configuration, load_nav2_params
-from baobab.nav.navigation_params import NavigationParams
-from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot
+from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot, navigator_robot
 from baobab.nav.navigator_time import NavigatorWaits
+from baobab.nav.robot_params import navigation_params
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
 from baobab.nav.server import NavigationServer, build_navigation
+from baobab.robots.catalog import RobotInfo
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
 from baobab.sim.world import Pose2D, World, load_world
@@ -55,7 +56,9 @@ class NavigatorCore(Node):
         node_name: the node's name (and its logger's).
         namespace: the node's namespace.
         world: a bundled world name, a world YAML path or a loaded ``World``.
-        robot: the robot model; ``"turtlebot3"`` (a Burger) is the one there is.
+        robot: a bundled mobile robot's name (``baobab list``), a robot file's path, or a
+            registry entry; None: what :func:`~baobab.nav.defaults.navigator_defaults` says
+            (``baobab nav2 --robot``), else the registry's default mobile robot.
         start: the robot's map-frame start pose; the world's default spawn when None.
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
@@ -65,16 +68,19 @@ class NavigatorCore(Node):
         nav2_substitute: run the stated substitute of each plugin baobab does not have
             (``--nav2-substitute``) instead of refusing the file.
 
-    ``world``, ``start``, ``seed``, ``realtime``, ``params_file`` and ``nav2_substitute`` left
-    at None take the values of :func:`~baobab.nav.defaults.navigator_defaults` (what
-    ``baobab nav2 --world ...`` sets); the default start applies only with the default world.
-    Without a parameter file, FollowWaypoints goes on past a missed waypoint (nav2_bringup's
+    ``world``, ``robot``, ``start``, ``seed``, ``realtime``, ``params_file`` and
+    ``nav2_substitute`` left at None take the values of
+    :func:`~baobab.nav.defaults.navigator_defaults` (what ``baobab nav2 --world ...`` sets);
+    the default start applies only with the default world. The parameter file applies on top
+    of the robot's settings (:func:`~baobab.nav.robot_params.navigation_params`); without
+    one, FollowWaypoints goes on past a missed waypoint (nav2_bringup's
     ``stop_on_failure: false``).
 
     Raises:
         Nav2ParamsError: the parameter file cannot be used (located message).
         WorldError: the world cannot be loaded (located message).
         NavigatorSetupError: an unknown robot, or a start pose that is not free.
+        RobotFileError: a robot file that cannot be used (located message).
         TypeError: an argument of the wrong type.
     """
 
@@ -84,7 +90,7 @@ class NavigatorCore(Node):
         namespace: str = "",
         *,
         world: str | FilePath | World | None = None,
-        robot: str = "turtlebot3",
+        robot: str | FilePath | RobotInfo | None = None,
         start: Pose2D | None = None,
         seed: int | None = None,
         realtime: bool | None = None,
@@ -92,16 +98,6 @@ class NavigatorCore(Node):
         nav2_substitute: bool | None = None,
     ) -> None:
         defaults = navigator_defaults()
-        params_file = defaults.nav2_params if params_file is None else params_file
-        self.nav2_configuration: Nav2Configuration | None = None
-        """What the parameter file set (None without one)."""
-        self._params = dataclasses.replace(NavigationParams(), waypoint_stop_on_failure=False)
-        if params_file is not None:
-            substitute = defaults.nav2_substitute if nav2_substitute is None else nav2_substitute
-            self.nav2_configuration = load_nav2_params(
-                params_file, self._params, substitute=substitute
-            )
-            self._params = self.nav2_configuration.params
         settings = NavigatorDefaults(
             world=defaults.world if world is None or isinstance(world, World) else world,
             start=(defaults.start if world is None else None) if start is None else start,
@@ -109,7 +105,16 @@ class NavigatorCore(Node):
             realtime=defaults.realtime if realtime is None else realtime,
         )
         loaded = world if isinstance(world, World) else load_world(settings.world)
-        self._robot_model = robot
+        self._robot = navigator_robot(defaults.robot if robot is None else robot)
+        base = dataclasses.replace(navigation_params(self._robot), waypoint_stop_on_failure=False)
+        self._params = base
+        self.nav2_configuration: Nav2Configuration | None = None
+        """What the parameter file set (None without one)."""
+        params_file = defaults.nav2_params if params_file is None else params_file
+        if params_file is not None:
+            substitute = defaults.nav2_substitute if nav2_substitute is None else nav2_substitute
+            self.nav2_configuration = load_nav2_params(params_file, base, substitute=substitute)
+            self._params = self.nav2_configuration.params
         self._seed = settings.seed
         self._time_offset = 0.0
         self._world = loaded
@@ -133,7 +138,7 @@ class NavigatorCore(Node):
     # -- the simulation -----------------------------------------------------------------------
 
     def _build(self, world: World, start: Pose2D) -> tuple[SimulatedRobot, NavigationServer]:
-        rig = build_simulated_robot(self._robot_model, world, start, self._seed)
+        rig = build_simulated_robot(self._robot, world, start, self._seed)
         return rig, build_navigation(rig.sim, rig.base, rig.lidar, world, params=self._params)
 
     def _sim_seconds(self) -> float:

@@ -7,8 +7,10 @@ Order of work (each step's errors come before the next step's):
 2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
    timeout and expect (and a refusal of ``${`` anywhere else);
 3. the top-level model (types, events, expectations);
-4. robot, world (a bundled name or a file inside the mission's folder) and locations (the
-   world's spawns and locations, then the mission's, which win);
+4. robot (a bundled name or a robot file inside the mission's folder, or the ``--robot``
+   override; one of ``robots:`` when the mission lists the robots it fits), world (a bundled
+   name or a file inside the mission's folder) and locations (the world's spawns and
+   locations, then the mission's, which win);
 5. start pose, the tree (node types, capabilities, parameters, goal poses in free space),
    every subtree body, then the cross-checks of events and expectations.
 """
@@ -44,7 +46,8 @@ from baobab.missions.language.params import (
     resolve_values,
 )
 from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
-from baobab.robots.catalog import ROBOTS, RobotInfo
+from baobab.robots.catalog import RobotInfo, robot_named
+from baobab.robots.robot_file import is_robot_path, load_robot, load_robot_file
 from baobab.sim.errors import BaobabError, unknown_name
 from baobab.sim.input_files import file_kind_problem
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
@@ -67,7 +70,9 @@ class Mission:
         path: the mission file.
         name: the ``mission:`` value.
         description: free text.
-        robot: the robot's catalogue entry.
+        robot: the robot's registry entry (or its robot file's).
+        supported_robots: the bundled robots the mission fits (``robots:``); None: any that
+            has the capabilities its tree needs.
         world: the 2D world of a mobile robot; None for a fixed robot.
         world_name: the bundled world or scene name, or the world file's resolved path.
         start: the start pose of a mobile robot (the world's default spawn if not given).
@@ -92,6 +97,7 @@ class Mission:
     name: str
     description: str
     robot: RobotInfo
+    supported_robots: tuple[str, ...] | None
     world: World | None
     world_name: str
     start: Pose2D | None
@@ -117,6 +123,7 @@ def load_mission(
     *,
     text: str | None = None,
     registry: Registry | None = None,
+    robot: str | None = None,
     nav2_params: str | Path | None = None,
     nav2_substitute: bool = False,
 ) -> Mission:
@@ -127,6 +134,8 @@ def load_mission(
         overrides: ``--set`` values by parameter name, as written on the command line.
         text: the file's content, if already in memory.
         registry: node types; default: :func:`default_registry`.
+        robot: ``--robot``: a bundled robot's name or a robot file's path (from the working
+            directory) that replaces the mission's ``robot:``, if the mission fits it.
         nav2_params: ``--nav2-params``: a Nav2 parameter file (anywhere: the user named it)
             in place of the mission's ``nav2_params:``.
         nav2_substitute: ``--nav2-substitute``: accept the stated substitutes of the plugins
@@ -135,6 +144,8 @@ def load_mission(
     Raises:
         MissionError: the first problem, as ``path:line:col: message``.
         WorldError: a problem inside the world file the mission names.
+        RobotFileError: a problem inside the robot file the mission or ``robot`` names.
+        BaobabError: ``robot`` names no bundled robot.
         Nav2ParamsError: a problem inside the Nav2 parameter file (located there).
     """
     mission_path = Path(path)
@@ -142,7 +153,7 @@ def load_mission(
         text = read_yaml_text(mission_path, MissionError)
     document = load_located_yaml(mission_path, MissionError, text=text)
     mission = _Loader(mission_path, document, text, registry or default_registry()).load(
-        overrides or {}
+        overrides or {}, robot
     )
     return _with_nav2_params(mission, nav2_params, nav2_substitute)
 
@@ -160,11 +171,12 @@ class _Loader:
     def _error(self, path: KeyPath, message: str) -> MissionError:
         return located(self.document, path, message, self.origins)
 
-    def load(self, overrides: Mapping[str, str]) -> Mission:
+    def load(self, overrides: Mapping[str, str], robot_override: str | None) -> Mission:
         data = self._top_level()
         specs = self._params(data.get("params", {}))
         values = resolve_values(specs, overrides, self.document)
-        for key in ("mission", "world", "robot", "nav2_params", "seed", "params", "locations"):
+        unsubstituted = ("mission", "world", "robot", "robots", "nav2_params", "seed", "params")
+        for key in (*unsubstituted, "locations"):
             if key in data:
                 check_no_placeholders(self.document, data[key], (key,))
         substitution = Substitution(
@@ -188,7 +200,7 @@ class _Loader:
                 origins=self.origins,
                 nouns={("expect",): "expectation", ("params",): "parameter"},
             ) from None
-        robot = ROBOTS[file.robot]
+        robot = self._robot(file, robot_override)
         world, world_name = self._world(file.world, robot)
         nav2_params = None
         if file.nav2_params is not None:
@@ -210,6 +222,7 @@ class _Loader:
             name=file.mission,
             description=file.description,
             robot=robot,
+            supported_robots=None if file.robots is None else tuple(file.robots),
             world=world,
             world_name=world_name,
             start=start,
@@ -292,6 +305,29 @@ class _Loader:
         if problem is not None:
             raise self._error((key,), f"{key} file '{written}' {problem}; expected a file")
         return resolved
+
+    def _robot(self, file: MissionFile, override: str | None) -> RobotInfo:
+        """The mission's robot, or ``--robot``'s, checked against the robots it fits."""
+        if override is not None:
+            robot = load_robot(override)
+        elif is_robot_path(file.robot):
+            robot = load_robot_file(self._file_in_folder("robot", file.robot))
+        else:
+            found = robot_named(file.robot)
+            if found is None:  # pragma: no cover - the model checked the name
+                raise self._error(("robot",), f"unknown robot '{file.robot}'")
+            robot = found
+        supported = file.robots
+        if supported is not None and robot.name not in supported:
+            where = ("robots",) if override is not None else ("robot",)
+            given = f"--robot {override}" if override is not None else f"robot '{robot.name}'"
+            kind = "robot file" if robot.path else "robot"
+            raise self._error(
+                where,
+                f"{given}: this mission fits only {', '.join(supported)} (robots:), not the "
+                f"{kind} '{robot.name}'",
+            )
+        return robot
 
     def _locations(
         self, file: MissionFile, robot: RobotInfo, world: World | None
