@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path as FilePath
 from typing import Any
 
+from baobab.nav.nav2_footprint import costmap_footprint
 from baobab.nav.nav2_param_rows import Mapped
 from baobab.nav.nav2_param_table import NODE_ROWS, is_ros_only
 from baobab.nav.nav2_params_file import (
@@ -185,12 +186,40 @@ def configure_navigation(
         builder.apply_rows(node, "", rows)
     if file.nodes.get("velocity_smoother"):
         _smoother_in_chain(builder)
+    for node in ("global_costmap", "local_costmap"):
+        _footprint(builder, node)
     for use in plugin_uses(file, substitute=substitute):
         _apply_plugin(builder, use)
     result = builder.result
     result.params = _with_changes(builder.base, builder.changes)
     _sort_leftovers(builder)
     return result
+
+
+def _footprint(builder: _Builder, node: str) -> None:
+    """The costmap's footprint from ``robot_radius``, ``footprint``, ``footprint_padding``."""
+    found = costmap_footprint(builder.file, node)
+    target = f"{node}.footprint"
+    for parameter in found.parameters:
+        if parameter not in found.unused:
+            builder.mark_used(parameter)
+    if found.footprint is None:
+        current = _get(builder.base, target)
+        shown = current.radius if current.is_circle else [list(p) for p in current.polygon]
+        builder.result.settings.append(
+            Setting(node, "robot_radius / footprint", shown, "m", DEFAULT, (target,), _FOOTPRINT)
+        )
+        return
+    builder.set(target, found.footprint)
+    decided = next(p for p in found.parameters if p.name in ("footprint", "robot_radius"))
+    if decided.name == "robot_radius" and len(found.parameters) > 1:
+        decided = next((p for p in found.parameters if p.name == "footprint"), decided)
+    builder.result.settings.append(
+        Setting(node, decided.name, decided.value, "m", FILE, (target,), _FOOTPRINT, decided.line)
+    )
+
+
+_FOOTPRINT = "the robot's outline (a polygon padded by footprint_padding)"
 
 
 def _smoother_in_chain(builder: _Builder) -> None:

@@ -11,8 +11,8 @@ from __future__ import annotations
 from baobab.nav.behaviors import BehaviorParams
 from baobab.nav.controller_server import ControllerParams
 from baobab.nav.layered_costmap import CostmapParams
-from baobab.nav.pure_pursuit import RegulatedPurePursuitParams
 from baobab.nav.navigation_params import NavigationParams
+from baobab.nav.pure_pursuit import RegulatedPurePursuitParams
 from baobab.robots.catalog import RobotInfo
 from baobab.robots.tuning import RobotTuning
 

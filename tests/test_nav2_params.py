@@ -6,6 +6,7 @@ import json
 import textwrap
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from baobab.missions.cli.command_line import main
@@ -169,6 +170,46 @@ def test_a_file_that_sets_nothing_baobab_maps_changes_nothing(tmp_path: Path) ->
             """,
             ":7:5:",
             "parameter 'controller_frequency' of 'controller_server' set twice (first at line 4)",
+        ),
+        (
+            """\
+            local_costmap:
+              local_costmap:
+                ros__parameters:
+                  footprint: "[[0.2, 0.1], [0.2, -0.1]]"
+            """,
+            ":4:7:",
+            "footprint is not a usable polygon: a footprint polygon needs at least 3 vertices",
+        ),
+        (
+            """\
+            local_costmap:
+              local_costmap:
+                ros__parameters:
+                  footprint: "[[0.2, 0.1], [-0.2, -0.1], [0.2, -0.1], [-0.2, 0.1]]"
+            """,
+            ":4:7:",
+            "footprint is not a usable polygon:",
+        ),
+        (
+            """\
+            global_costmap:
+              global_costmap:
+                ros__parameters:
+                  footprint: "[[0.2, 0.1], [0.2, -0.1], [-0.2"
+            """,
+            ":4:7:",
+            "footprint must be a polygon such as",
+        ),
+        (
+            """\
+            global_costmap:
+              global_costmap:
+                ros__parameters:
+                  robot_radius: -0.2
+            """,
+            ":4:7:",
+            "robot_radius (m) must be a positive number, got -0.2",
         ),
     ],
 )
@@ -393,3 +434,26 @@ def test_teleop_refuses_a_bad_parameter_file_before_it_needs_a_terminal(
     assert main(["teleop", "--world", "cafe", "--nav2-params", str(bad)]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"{bad}:3:5: controller_frequency (Hz) must be positive")
+
+
+def test_a_footprint_polygon_wins_over_the_radius_and_is_padded(tmp_path: Path) -> None:
+    text = """\
+    local_costmap:
+      local_costmap:
+        ros__parameters:
+          robot_radius: 0.3
+          footprint: [[0.2, 0.1], [0.2, -0.1], [-0.2, -0.1], [-0.2, 0.1]]
+          footprint_padding: 0.05
+    global_costmap:
+      global_costmap:
+        ros__parameters:
+          footprint_padding: 0.05
+    """
+    configuration = _load(tmp_path, text)
+    local = configuration.params.local_costmap.footprint
+    expected = ((0.25, 0.15), (0.25, -0.15), (-0.25, -0.15), (-0.25, 0.15))
+    assert np.allclose(local.polygon, expected)
+    assert (
+        configuration.params.global_costmap.footprint == NavigationParams().global_costmap.footprint
+    )
+    assert configuration.unused == {"global_costmap": ["footprint_padding"]}

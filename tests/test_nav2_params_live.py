@@ -20,6 +20,7 @@ from baobab.nav.nav2_configuration import FILE, load_nav2_params
 from baobab.nav.navigation_params import NavigationParams
 from baobab.nav.server import NavigationServer
 from baobab.nav.waypoints import WaypointFollower
+from baobab.robots.footprint import Footprint
 from baobab.sim.world import Pose2D
 
 PARAMS = Path(__file__).parent / "nav2_params"
@@ -102,6 +103,10 @@ EXPECTED: dict[str, Any] = {
     "local_costmap.obstacle.raytrace_max_range": 2.8,
     "local_costmap.obstacle.raytrace_min_range": 0.02,
     "local_costmap.use_static_layer": False,
+    "global_costmap.footprint": Footprint(
+        polygon=((0.14, 0.12), (0.14, -0.12), (-0.12, -0.12), (-0.12, 0.12))
+    ),
+    "local_costmap.footprint": Footprint.circle(0.12),
     "velocity_smoother.enabled": True,
     "velocity_smoother.max_velocity": (0.2, 1.5),
     "velocity_smoother.min_velocity": (-0.15, -1.5),
@@ -140,6 +145,8 @@ def _live(server: NavigationServer, waypoints: WaypointFollower, target: str) ->
         layers = _layers(server, target)
         if rest == "resolution":
             return layers.costmap.resolution
+        if rest == "footprint":
+            return layers.costmap.footprint
         if rest in ("inflation_radius", "cost_scaling_factor"):
             return getattr(layers.inflation_layer.params, rest)
         if rest.startswith("obstacle."):
@@ -213,6 +220,10 @@ def test_the_running_stack_reports_every_value_of_the_file(navigator: Any) -> No
 
 
 def _same(live: Any, expected: Any) -> bool:
+    if isinstance(expected, Footprint):
+        if expected.is_circle:
+            return live == expected
+        return live.radius is None and _same(live.polygon, expected.polygon)
     if isinstance(expected, bool | str) or isinstance(live, bool | str):
         return live == expected and type(live) is type(expected)
     if isinstance(expected, tuple):
