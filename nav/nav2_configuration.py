@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path as FilePath
 from typing import Any
 
+from baobab.nav.nav2_filters import NavFilterMasks, apply_filters, filter_masks
 from baobab.nav.nav2_footprint import costmap_footprint
 from baobab.nav.nav2_param_rows import Mapped
 from baobab.nav.nav2_param_table import NODE_ROWS, is_ros_only
@@ -33,6 +34,7 @@ from baobab.nav.nav2_params_file import (
 )
 from baobab.nav.nav2_plugin_lists import PluginUse, plugin_uses
 from baobab.nav.navigation_params import NavigationParams
+from baobab.sim.world import World
 
 FILE = "file"
 DEFAULT = "default"
@@ -83,6 +85,18 @@ class Nav2Configuration:
     substitutions: list[str] = field(default_factory=list)
     ignored_nodes: list[str] = field(default_factory=list)
     path: str = ""
+    masks: NavFilterMasks | None = None
+    file: Nav2ParamsFile | None = None
+
+    def filtered(self, world: World) -> World:
+        """``world`` with the file's keepout and speed masks (itself when the file has none).
+
+        Raises:
+            Nav2ParamsError: a mask that does not fit the world (located in the file).
+        """
+        if self.masks is None or self.file is None:
+            return world
+        return apply_filters(world, self.file, self.masks)
 
     def value(self, node: str, name: str) -> Any:
         """The value a mapped parameter has (KeyError for one that is not mapped)."""
@@ -108,7 +122,7 @@ class _Builder:
         self.base = base
         self.changes: dict[str, Any] = {}
         self.used: set[tuple[str, str]] = set()
-        self.result = Nav2Configuration(base, path=file.path)
+        self.result = Nav2Configuration(base, path=file.path, file=file)
 
     def apply_rows(self, node: str, prefix: str, rows: Iterable[Mapped]) -> None:
         """Apply ``rows`` to the parameters ``prefix + row.name`` of ``node``."""
@@ -188,8 +202,13 @@ def configure_navigation(
         _smoother_in_chain(builder)
     for node in ("global_costmap", "local_costmap"):
         _footprint(builder, node)
-    for use in plugin_uses(file, substitute=substitute):
+    uses = plugin_uses(file, substitute=substitute)
+    for use in uses:
         _apply_plugin(builder, use)
+    masks, used = filter_masks(file, uses)
+    for parameter in used:
+        builder.mark_used(parameter)
+    builder.result.masks = masks
     result = builder.result
     result.params = _with_changes(builder.base, builder.changes)
     _sort_leftovers(builder)
@@ -247,11 +266,11 @@ def _apply_plugin(builder: _Builder, use: PluginUse) -> None:
         builder.mark_used(parameter)
     if use.substitution:
         builder.result.substitutions.append(use.substitution)
+    for target, value in use.sets.items():
+        builder.set(target, value)
     if not use.active:
         return
     builder.apply_rows(use.node, f"{use.instance}.", use.rows)
-    for target, value in use.sets.items():
-        builder.set(target, value)
     for source in use.sources:
         builder.apply_rows(use.node, f"{use.instance}.{source}.", use.source_rows)
 
@@ -262,7 +281,8 @@ def _sort_leftovers(builder: _Builder) -> None:
     groups = _instance_groups(builder)
     for node, parameters in builder.file.nodes.items():
         if node != ALL_NODES and node not in MAPPED_NODES:
-            result.ignored_nodes.append(node)
+            if not any(user == node for user, _ in builder.used):  # not a filter's server
+                result.ignored_nodes.append(node)
             continue
         for name in parameters:
             if (node, name) in builder.used:

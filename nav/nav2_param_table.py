@@ -42,6 +42,22 @@ _COSTMAP_ROWS = (
         positive,
     ),
 )
+_STATIC_ROWS = (
+    row(
+        "track_unknown_space",
+        "{costmap}.static.track_unknown_space",
+        bool,
+        "",
+        False,
+        "unknown map cells stay unknown instead of free",
+    ),
+    *same_names(
+        "{costmap}.static.",
+        ("lethal_cost_threshold", int, "", 100, "occupancy from which a cell is lethal", positive),
+        ("unknown_cost_value", int, "", 255, "occupancy value read as unknown", non_negative),
+        ("trinary_costmap", bool, "", True, "below lethal is free (else scaled)", None),
+    ),
+)
 _LOCAL_COSTMAP_ROWS = (
     row("width", "local_costmap_size.0", float, "m", 5.0, "rolling window width", positive),
     row("height", "local_costmap_size.1", float, "m", 5.0, "rolling window height", positive),
@@ -49,8 +65,8 @@ _LOCAL_COSTMAP_ROWS = (
 _RPP = "controller.rpp."
 
 NODE_ROWS: dict[str, tuple[Mapped, ...]] = {
-    "global_costmap": _COSTMAP_ROWS,
-    "local_costmap": _COSTMAP_ROWS + _LOCAL_COSTMAP_ROWS,
+    "global_costmap": _COSTMAP_ROWS + _STATIC_ROWS,
+    "local_costmap": _COSTMAP_ROWS + _STATIC_ROWS + _LOCAL_COSTMAP_ROWS,
     "controller_server": (
         row(
             "controller_frequency",
@@ -348,7 +364,28 @@ _WAIT_AT_WAYPOINT_ROWS = (
     ),
 )
 
+_KEEPOUT_ROWS = (
+    row(
+        "override_lethal_cost",
+        "keepout.override_lethal_cost",
+        bool,
+        "",
+        False,
+        "lower the zone's cost while the robot stands in it",
+    ),
+    row(
+        "lethal_override_cost",
+        "keepout.lethal_override_cost",
+        int,
+        "",
+        252,
+        "the cost written instead",
+        lambda value: None if 0 <= value <= 252 else f"must be 0..252, got {value}",
+    ),
+)
+
 PLUGIN_ROWS: dict[str, tuple[Mapped, ...]] = {
+    "nav2_costmap_2d::KeepoutFilter": _KEEPOUT_ROWS,
     "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController": _RPP_ROWS,
     "nav2_controller::SimpleGoalChecker": _SIMPLE_GOAL_ROWS,
     "nav2_controller::SimpleProgressChecker": _SIMPLE_PROGRESS_ROWS,

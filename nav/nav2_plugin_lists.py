@@ -91,6 +91,11 @@ def plugin_uses(file: Nav2ParamsFile, *, substitute: bool) -> list[PluginUse]:
             _keep_one(kind, kind_uses)
         if kind.label == "costmap layer":
             _layers(file, kind, kind_uses, list_parameter, substitute=substitute)
+        elif kind.label in ("costmap filter", "waypoint task executor"):
+            for use in kind_uses:
+                if not _enabled(file, use):  # a disabled filter or task runs nothing
+                    use.active = False
+                    use.sets.update(kind.disabled)
         uses.extend(kind_uses)
     return uses
 

@@ -12,7 +12,8 @@ baobab does not know at all (a custom plugin) gets its kind's substitute.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 from baobab.nav.nav2_param_rows import Mapped, non_negative, positive
 from baobab.nav.nav2_param_table import PLUGIN_ROWS
@@ -32,6 +33,7 @@ class PluginKind:
         single: baobab runs one instance of this kind (the first listed, or the one named
             like Nav2's default); the others' parameters are unused.
         substitute: what baobab runs instead of a plugin of this kind it does not have.
+        disabled: ``NavigationParams`` fields an instance with ``enabled: false`` sets.
     """
 
     label: str
@@ -40,6 +42,7 @@ class PluginKind:
     defaults: dict[str, str]
     single: bool
     substitute: str
+    disabled: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -154,6 +157,7 @@ PLUGIN_LISTS: tuple[PluginKind, ...] = (
         {"wait_at_waypoint": "nav2_waypoint_follower::WaitAtWaypoint"},
         True,
         "no task at the waypoints",
+        {"waypoint_pause": 0.0},
     ),
     *_costmap_kinds("global_costmap"),
     *_costmap_kinds("local_costmap"),
@@ -294,9 +298,13 @@ PLUGINS: dict[str, PluginInfo] = {
         f"nav2_costmap_2d::{name}": _substituted("costmap layer", "the layer is left out")
         for name in ("RangeSensorLayer", "DenoiseLayer", "PluginContainerLayer")
     },
+    "nav2_costmap_2d::KeepoutFilter": _native(
+        "costmap filter", PLUGIN_ROWS["nav2_costmap_2d::KeepoutFilter"]
+    ),
+    "nav2_costmap_2d::SpeedFilter": _native("costmap filter"),
     **{
         f"nav2_costmap_2d::{name}": _substituted("costmap filter", "the filter is left out")
-        for name in ("KeepoutFilter", "SpeedFilter", "BinaryFilter", "ZoneParameterFilter")
+        for name in ("BinaryFilter", "ZoneParameterFilter")
     },
 }
 """Plugin classes baobab knows, by canonical name."""

@@ -1,7 +1,7 @@
 """Every setting of the navigation stack, in one record: :class:`NavigationParams`.
 
 Its parts are the records of the pieces that use them (costmaps, planner, smoother, controller,
-behaviours, navigators, velocity smoother); a Nav2 parameter file sets them
+behaviours, navigators, velocity smoother, keepout filter); a Nav2 parameter file sets them
 (:mod:`baobab.nav.nav2_configuration`), and :class:`~baobab.nav.server.NavigationServer` builds
 the stack from them.
 """
@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 from baobab.nav.behaviors import BehaviorParams
 from baobab.nav.controller_server import ControllerParams
+from baobab.nav.costmap_filters import KeepoutParams
 from baobab.nav.layered_costmap import CostmapParams
 from baobab.nav.navigate import NavigatorParams
 from baobab.nav.planner import PlannerParams
@@ -40,3 +41,4 @@ class NavigationParams:
     waypoint_pause: float = 0.0
     """Pause (s, sim time) at each reached waypoint unless its caller says otherwise."""
     velocity_smoother: VelocitySmootherParams = field(default_factory=VelocitySmootherParams)
+    keepout: KeepoutParams = field(default_factory=KeepoutParams)

@@ -15,9 +15,6 @@ recovery behaviours, and at most one running task. Every task method returns a
   forgotten what the lidar sees; a clear forgets only what it no longer sees;
 - the active task's tick at the controller rate (20 Hz; behaviours cycle at 10 Hz).
 
-Each rate runs at the nearest whole number of physics steps (a 15 Hz controller on a 5 ms
-step runs every 65 ms), as a rate from a Nav2 parameter file need not divide the step.
-
 Goals while a task runs are preempted, or replace the running task, as Nav2's action servers
 do (:mod:`baobab.nav.task_slot`); ``cancel()`` (or the handle's) halts the task and commands
 zero velocity at once. Scans reach the costmaps as :mod:`baobab.nav.costmap_updates` says.
@@ -47,6 +44,7 @@ from baobab.nav.behaviors import (
 )
 from baobab.nav.controller_server import FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import keepout_filter, speed_filter
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
@@ -59,7 +57,7 @@ from baobab.nav.path import Path
 from baobab.nav.planner import GlobalPlanner
 from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
-from baobab.nav.velocity_smoother import VelocitySmoother
+from baobab.nav.velocity_smoother import smoothed
 from baobab.nav.waypoints import WaypointFollower
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.tasks import TaskHandle
@@ -92,23 +90,30 @@ class NavigationServer:
         self.sim = sim
         self.base = base
         self.world = world
-        static = StaticLayer(world, p.global_costmap.resolution)
+        static = StaticLayer(world, p.global_costmap.resolution, params=p.global_costmap.static)
         local_static = (
             static
             if p.local_costmap.resolution == p.global_costmap.resolution
-            else StaticLayer(world, p.local_costmap.resolution)
+            and p.local_costmap.static == p.global_costmap.static
+            else StaticLayer(world, p.local_costmap.resolution, params=p.local_costmap.static)
         )
-        self.global_layers = LayeredCostmap.global_costmap(world, p.global_costmap, static)
+        self.global_layers = LayeredCostmap.global_costmap(
+            world,
+            p.global_costmap,
+            static,
+            keepout_filter(world, static, p.global_costmap.inflation, p.keepout),
+        )
         self.local_layers = LayeredCostmap.local_costmap(
-            world, base.pose(), p.local_costmap, p.local_costmap_size, local_static
+            world,
+            base.pose(),
+            p.local_costmap,
+            p.local_costmap_size,
+            local_static,
+            keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout),
         )
-        self.velocity_smoother = (
-            VelocitySmoother(base, self._clock, p.velocity_smoother)
-            if p.velocity_smoother.enabled
-            else None
-        )
-        """Nav2's velocity smoother between the stack and the base, when the settings ask."""
-        drive: MobileBase = self.velocity_smoother or base
+        self.drive = drive = smoothed(base, self._clock, p.velocity_smoother)
+        """What the stack commands: the base, or Nav2's velocity smoother in front of it."""
+        self.speed_filter = speed_filter(world)
         self.planner = GlobalPlanner(p.planner, p.smoother)
         self.through_poses = ThroughPosesPlanner(self.planner)
         self.smoother = p.smoother
@@ -135,19 +140,15 @@ class NavigationServer:
         self._last_pose = base.pose()
         if lidar is not None:
             lidar.subscribe(self.costmap_updates.on_scan)
-        self._timers: list[PeriodicHandle] = [
-            sim.every(
-                _period(sim, p.local_costmap_update_hz), self._update_local, name="nav local"
-            ),
-            sim.every(
-                _period(sim, p.global_costmap_update_hz), self._update_global, name="nav global"
-            ),
-            sim.every(
-                _period(sim, p.controller.controller_frequency),
-                self._on_control,
-                name="nav control",
-            ),
+        rates = (
+            (p.local_costmap_update_hz, self._update_local, "nav local"),
+            (p.global_costmap_update_hz, self._update_global, "nav global"),
+            (p.controller.controller_frequency, self._on_control, "nav control"),
+        )
+        self.timers: list[PeriodicHandle] = [
+            sim.every(_period(sim, rate), callback, name=name) for rate, callback, name in rates
         ]
+        """Its periodic callbacks: ``nav local``, ``nav global`` (costmaps), ``nav control``."""
 
     # -- tasks (the NavigationPort) -----------------------------------------------------------
 
@@ -184,18 +185,16 @@ class NavigationServer:
         Either left at None takes the server's setting (``params.waypoint_pause``,
         ``params.waypoint_stop_on_failure``: Nav2's waypoint follower parameters).
         """
-        points = list(waypoints)
-        if wait_at_waypoint is None:
-            wait_at_waypoint = self.params.waypoint_pause
-        if stop_on_failure is None:
-            stop_on_failure = self.params.waypoint_stop_on_failure
+        points, p = list(waypoints), self.params
+        wait = p.waypoint_pause if wait_at_waypoint is None else wait_at_waypoint
+        stop = p.waypoint_stop_on_failure if stop_on_failure is None else stop_on_failure
 
         def make() -> ServerTask:
             return WaypointFollower(
                 points,
                 lambda pose: self._navigate_task([pose], through_poses=False),
-                wait_at_waypoint=wait_at_waypoint,
-                stop_on_failure=stop_on_failure,
+                wait_at_waypoint=wait,
+                stop_on_failure=stop,
                 loop_rate=self.params.waypoint_loop_rate,
                 number_of_loops=number_of_loops,
                 goal_index=goal_index,
@@ -206,8 +205,8 @@ class NavigationServer:
                 return False
             task.preempt(
                 points,
-                wait_at_waypoint=wait_at_waypoint,
-                stop_on_failure=stop_on_failure,
+                wait_at_waypoint=wait,
+                stop_on_failure=stop,
                 number_of_loops=number_of_loops,
             )
             return True
@@ -327,13 +326,6 @@ class NavigationServer:
         return self.tasks.handle
 
     @property
-    def rates(self) -> dict[str, float]:
-        """The rates (Hz) its periodic callbacks run at, by name: ``nav local`` and ``nav
-        global`` (costmap updates), ``nav control`` (the controller and the tasks)."""
-        dt = self.sim.physics_dt
-        return {timer.name: 1.0 / (timer.period_steps * dt) for timer in self._timers}
-
-    @property
     def current_path(self) -> Path | None:
         """The path the controller follows now (None when no task drives)."""
         return None if self.tasks.handle is None else self.follower.path
@@ -419,7 +411,7 @@ class NavigationServer:
     def close(self) -> None:
         """Cancel the running task and stop every callback and subscription."""
         self.cancel()
-        for timer in self._timers:
+        for timer in self.timers:
             timer.cancel()
         if self._lidar is not None:
             self._lidar.unsubscribe(self.costmap_updates.on_scan)
@@ -443,6 +435,11 @@ class NavigationServer:
 
     def _update_local(self, _now: float) -> None:
         self.costmap_updates.update_local()
+        if self.speed_filter is not None:
+            pose = self.base.pose()
+            limit = self.speed_filter.update(pose.x, pose.y)
+            if limit is not None:
+                self.follower.set_speed_limit(limit)
 
     def _update_global(self, _now: float) -> None:
         self.costmap_updates.update_global()
@@ -457,7 +454,8 @@ class NavigationServer:
 
 
 def _period(sim: Simulation, rate: float) -> float:
-    """The period (s) of ``rate`` (Hz) as a whole number of physics steps, at least one."""
+    """The period (s) of ``rate`` (Hz) as the nearest whole number of physics steps, at least
+    one: a rate from a Nav2 parameter file need not divide the step (15 Hz on 5 ms: 65 ms)."""
     return max(round(1.0 / (rate * sim.physics_dt)), 1) * sim.physics_dt
 
 

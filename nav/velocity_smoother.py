@@ -141,3 +141,10 @@ def _scaled(wanted: Axes | list[float], limited: list[float]) -> list[float]:
     ]
     factor = min(ratios, default=1.0)
     return [value * min(factor, 1.0) for value in wanted]
+
+
+def smoothed(
+    base: MobileBase, clock: Callable[[], float], params: VelocitySmootherParams
+) -> MobileBase:
+    """``base`` itself, or a :class:`VelocitySmoother` in front of it when ``params.enabled``."""
+    return VelocitySmoother(base, clock, params) if params.enabled else base

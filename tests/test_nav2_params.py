@@ -457,3 +457,22 @@ def test_a_footprint_polygon_wins_over_the_radius_and_is_padded(tmp_path: Path) 
         configuration.params.global_costmap.footprint == NavigationParams().global_costmap.footprint
     )
     assert configuration.unused == {"global_costmap": ["footprint_padding"]}
+
+
+def test_a_disabled_waypoint_task_pauses_nowhere(tmp_path: Path) -> None:
+    text = """\
+    waypoint_follower:
+      ros__parameters:
+        waypoint_task_executor_plugin: wait_at_waypoint
+        wait_at_waypoint:
+          plugin: nav2_waypoint_follower::WaitAtWaypoint
+          enabled: false
+          waypoint_pause_duration: 900
+    """
+    configuration = _load(tmp_path, text)
+    assert configuration.params.waypoint_pause == 0.0
+    assert configuration.unused == {
+        "waypoint_follower/wait_at_waypoint (nav2_waypoint_follower::WaitAtWaypoint)": [
+            "wait_at_waypoint.waypoint_pause_duration"
+        ]
+    }

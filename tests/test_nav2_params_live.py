@@ -19,6 +19,7 @@ from baobab.nav import BasicNavigator
 from baobab.nav.nav2_configuration import FILE, load_nav2_params
 from baobab.nav.navigation_params import NavigationParams
 from baobab.nav.server import NavigationServer
+from baobab.nav.velocity_smoother import VelocitySmoother
 from baobab.nav.waypoints import WaypointFollower
 from baobab.robots.footprint import Footprint
 from baobab.sim.world import Pose2D
@@ -107,6 +108,14 @@ EXPECTED: dict[str, Any] = {
         polygon=((0.14, 0.12), (0.14, -0.12), (-0.12, -0.12), (-0.12, 0.12))
     ),
     "local_costmap.footprint": Footprint.circle(0.12),
+    "global_costmap.static.track_unknown_space": True,
+    "global_costmap.static.lethal_cost_threshold": 90,
+    "global_costmap.static.unknown_cost_value": 254,
+    "global_costmap.static.trinary_costmap": False,
+    "local_costmap.static.track_unknown_space": True,
+    "local_costmap.static.lethal_cost_threshold": 95,
+    "local_costmap.static.unknown_cost_value": 253,
+    "local_costmap.static.trinary_costmap": False,
     "velocity_smoother.enabled": True,
     "velocity_smoother.max_velocity": (0.2, 1.5),
     "velocity_smoother.min_velocity": (-0.15, -1.5),
@@ -126,7 +135,7 @@ def _layers(server: NavigationServer, target: str) -> Any:
 def _live(server: NavigationServer, waypoints: WaypointFollower, target: str) -> Any:
     """The value the running stack has for ``target``, read from the object that uses it."""
     head, _, rest = target.partition(".")
-    rates = server.rates
+    rates = {t.name: 1 / (t.period_steps * server.sim.physics_dt) for t in server.timers}
     getters: dict[str, Callable[[], Any]] = {
         "global_costmap_update_hz": lambda: rates["nav global"],
         "local_costmap_update_hz": lambda: rates["nav local"],
@@ -149,6 +158,8 @@ def _live(server: NavigationServer, waypoints: WaypointFollower, target: str) ->
             return layers.costmap.footprint
         if rest in ("inflation_radius", "cost_scaling_factor"):
             return getattr(layers.inflation_layer.params, rest)
+        if rest.startswith("static."):
+            return getattr(layers.params.static, rest.removeprefix("static."))
         if rest.startswith("obstacle."):
             return getattr(layers.obstacle_layer.params, rest.removeprefix("obstacle."))
         return getattr(layers.params, rest)
@@ -169,10 +180,10 @@ def _live(server: NavigationServer, waypoints: WaypointFollower, target: str) ->
 
 def _smoother(server: NavigationServer, name: str) -> Any:
     """A velocity smoother setting; ``enabled``: whether one sits before the base."""
-    smoother = server.velocity_smoother
+    smoother = server.drive
     if name == "enabled":
-        return smoother is not None and server.follower.base is smoother
-    assert smoother is not None
+        return isinstance(smoother, VelocitySmoother) and server.follower.base is smoother
+    assert isinstance(smoother, VelocitySmoother)
     return getattr(smoother.params, name)
 
 

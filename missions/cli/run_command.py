@@ -94,6 +94,12 @@ def configure_run(parser: argparse.ArgumentParser) -> None:
     )
     add_set(parser)
     add_robot(parser, "the mission's robot (where the mission fits it)")
+    parser.add_argument(
+        "--world",
+        metavar="PATH",
+        help="run in this world instead of the mission's: a bundled name, a world YAML file "
+        "or a map_server map YAML (a map has no spawn: the mission needs a start)",
+    )
     parser.add_argument("--seed", type=int, help="override the mission's seed")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
     parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
@@ -187,6 +193,7 @@ def _checked_run(
         resolve_mission(args.mission),
         overrides,
         robot=args.robot,
+        world=args.world,
         nav2_params=args.nav2_params,
         nav2_substitute=args.nav2_substitute,
     )

@@ -1,14 +1,15 @@
-"""``baobab teleop --world NAME [--robot NAME_OR_PATH]``: drive a mobile robot with the keyboard,
-assisted teleop on.
+"""``baobab teleop --world NAME [--robot NAME_OR_PATH] [--start X,Y,YAW]``: drive a mobile robot
+with the keyboard, assisted teleop on.
 
 The robot (``--robot``: a bundled mobile robot or a robot file; the registry's default mobile
-robot without it) starts at the world's spawn with its navigation server running one assisted
-teleop session without a time limit, so the collision projection slows it down near obstacles
-and stops it before them (:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the
-keyboard teleop's mapping (:mod:`baobab.robots.diff_drive.teleop`: WASD or ZQSD, the seed's
-0.25 m/s and 1.2 rad/s within the robot's limits) with the terminal rules of
-:mod:`baobab.robots.diff_drive.teleop_terminal` (a press holds for 0.4 s, space stops, ``q``
-quits). The simulation is paced to the wall clock, the one place where that is right, and a
+robot without it) starts at ``--start`` or the world's spawn (on a map without one, its origin)
+with its navigation server running one assisted teleop session without a time limit, so the
+collision projection slows it down near obstacles and stops it before them
+(:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the keyboard teleop's mapping
+(:mod:`baobab.robots.diff_drive.teleop`: WASD or ZQSD, the seed's 0.25 m/s and 1.2 rad/s within
+the robot's limits) with the terminal rules of :mod:`baobab.robots.diff_drive.teleop_terminal`
+(a press holds for 0.4 s, space stops, ``q`` quits). The simulation is paced to the wall clock,
+the one place where that is right, and a
 status line shows the pose, the nearest obstacle and the scaling assisted teleop applies.
 
 :class:`TeleopSession` is the terminal-free part (keys in, sim advanced, status out);
@@ -27,6 +28,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, TextIO
 
+from baobab.missions.cli.arguments import add_start, start_pose
 from baobab.missions.cli.nav2_params_command import add_nav2_params_options
 from baobab.missions.run.exit_codes import EXIT_INVALID, EXIT_OK
 from baobab.robots.catalog import RobotInfo, default_mobile_robot
@@ -38,7 +40,7 @@ from baobab.robots.diff_drive.teleop_terminal import (
     TerminalKeys,
 )
 from baobab.sim.tasks import TaskOutcome, TaskStatus
-from baobab.sim.world import World, load_world
+from baobab.sim.world import Pose2D, World, load_world
 
 if TYPE_CHECKING:
     from baobab.nav.navigation_params import NavigationParams
@@ -86,9 +88,10 @@ class TeleopSession:
     """A mobile robot in ``world`` driven by key presses through assisted teleop (no terminal).
 
     Args:
-        world: where to drive; the robot starts at its default spawn.
+        world: where to drive.
         keys: the key rules (layout, hold time, speeds).
         robot: the robot (default: the registry's default mobile robot).
+        start: where the robot starts (m, rad); default: the world's spawn.
         params: the navigation settings (``--nav2-params`` applied to the robot's); the
             robot's own when None.
     """
@@ -98,6 +101,7 @@ class TeleopSession:
         world: World,
         keys: TerminalKeys,
         robot: RobotInfo | None = None,
+        start: Pose2D | None = None,
         params: NavigationParams | None = None,
     ) -> None:
         from baobab.nav.robot_params import navigation_params  # the navigation stack loads slowly
@@ -106,7 +110,7 @@ class TeleopSession:
         self.world = world
         self.keys = keys
         self.info = robot or default_mobile_robot()
-        self.sim, self.robot = self.info.build_sim(world)
+        self.sim, self.robot = self.info.build_sim(world, start)
         self.server: NavigationServer = build_navigation(
             self.sim,
             self.robot.base,
@@ -221,7 +225,12 @@ def help_text(keys: TerminalKeys, world: str, width: int = 80) -> str:
 
 def configure_teleop(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``baobab teleop``."""
-    parser.add_argument("--world", required=True, help="a bundled world name (or a world file)")
+    parser.add_argument(
+        "--world",
+        required=True,
+        help="a bundled world name, a world YAML file or a map_server map YAML",
+    )
+    add_start(parser)
     parser.add_argument(
         "--robot",
         metavar="NAME_OR_PATH",
@@ -260,14 +269,14 @@ def teleop_command(args: argparse.Namespace) -> int:
         WorldError: for an unknown world (the CLI prints it and exits 2).
         RobotFileError: a robot file that cannot be used (exit 2).
         Nav2ParamsError: a parameter file that cannot be used (exit 2).
-        NavigatorSetupError: an unknown or fixed robot, or a default spawn that is not free
-            for the robot (exit 2).
+        NavigatorSetupError: an unknown or fixed robot (exit 2).
+        BaobabError: a malformed start, or one not free for the robot (exit 2).
     """
-    world = load_world(args.world)
-    from baobab.nav.navigator_robot import check_free, navigator_robot
+    from baobab.nav.navigator_robot import navigator_robot
 
+    world = load_world(args.world)
     robot = navigator_robot(args.robot)
-    check_free(world, world.spawn, robot.mobile_facts.footprint, what="the default spawn")
+    start = start_pose(args.start, world, robot.mobile_facts.footprint)
     params = None
     if args.nav2_params is not None:
         from baobab.nav.nav2_configuration import load_nav2_params
@@ -276,6 +285,7 @@ def teleop_command(args: argparse.Namespace) -> int:
         base = navigation_params(robot)
         configuration = load_nav2_params(args.nav2_params, base, substitute=args.nav2_substitute)
         params = configuration.params
+        world = configuration.filtered(world)
         warning = configuration.warning()
         if warning is not None:
             print(f"warning: {warning}", file=sys.stderr)
@@ -287,7 +297,7 @@ def teleop_command(args: argparse.Namespace) -> int:
     keys = TerminalKeys(
         layout_named(args.layout), hold_time=args.hold, linear_speed=linear, angular_speed=angular
     )
-    session = TeleopSession(world, keys, robot, params)
+    session = TeleopSession(world, keys, robot, start, params)
     out = sys.stdout
     width = _terminal_width()
     out.write(help_text(keys, world.name, width) + "\n\x1b[?25l")
