@@ -37,7 +37,6 @@ from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
 
 if TYPE_CHECKING:
-    from baobab.nav.nav2_params_file import Nav2ParamsFile
     from baobab.nav.ros.mission_nodes import MissionNodes
     from baobab.nav.server import NavigationServer
 
@@ -116,20 +115,20 @@ def build_navigation(
     info: RobotInfo,
     world: World,
     teleop: TeleopChannel,
-    nav2_params: Nav2ParamsFile | None = None,
-    nav2_substitute: bool = False,
+    mission: Mission | None = None,
 ) -> NavigationServer:
-    """The navigation server of the mobile robot ``info`` describes, with its settings (and a
-    Nav2 parameter file's on top, with or without substitutes), fed by teleop events (imported
-    only now)."""
+    """The navigation server of the mobile robot ``info`` describes, with its settings (and the
+    ``mission``'s Nav2 parameter file's on top, with or without substitutes), fed by teleop
+    events (imported only now)."""
     from baobab.nav.robot_params import navigation_params
     from baobab.nav.server import build_navigation as build_server
 
     params = navigation_params(info)
-    if nav2_params is not None:
+    if mission is not None and mission.nav2_params is not None:
         from baobab.nav.nav2_configuration import configure_navigation
 
-        params = configure_navigation(nav2_params, params, substitute=nav2_substitute).params
+        substitute = mission.nav2_substitute
+        params = configure_navigation(mission.nav2_params, params, substitute=substitute).params
     server = build_server(sim, robot.base, robot.lidar, world, params=params)
     teleop.subscribe(lambda twist: server.teleop_command(*(twist or (0.0, 0.0))))
     return server
@@ -222,13 +221,7 @@ class MobileRig:
         sim = self.sim
         if uses_capability(mission, NAVIGATION):
             self.navigation = build_navigation(
-                sim,
-                self.robot,
-                self.info,
-                world,
-                self.teleop,
-                mission.nav2_params,
-                mission.nav2_substitute,
+                sim, self.robot, self.info, world, self.teleop, mission
             )
             self.clear_counter = ClearCountingPort(self.navigation)
             port = self.clear_counter
