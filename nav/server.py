@@ -44,14 +44,13 @@ from baobab.nav.behaviors import (
 )
 from baobab.nav.controller_server import FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
-from baobab.nav.costmap_filters import keepout_filter, speed_filter
+from baobab.nav.costmap_filters import speed_filter
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
 from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
-from baobab.nav.layered_costmap import LayeredCostmap
-from baobab.nav.layers import StaticLayer
 from baobab.nav.navigate import NavigateTask, NavigationMetrics
+from baobab.nav.navigation_costmaps import navigation_costmaps
 from baobab.nav.navigation_params import NavigationParams
 from baobab.nav.path import Path
 from baobab.nav.planner import GlobalPlanner
@@ -90,26 +89,13 @@ class NavigationServer:
         self.sim = sim
         self.base = base
         self.world = world
-        static = StaticLayer(world, p.global_costmap.resolution, params=p.global_costmap.static)
-        local_static = (
-            static
-            if p.local_costmap.resolution == p.global_costmap.resolution
-            and p.local_costmap.static == p.global_costmap.static
-            else StaticLayer(world, p.local_costmap.resolution, params=p.local_costmap.static)
-        )
-        self.global_layers = LayeredCostmap.global_costmap(
-            world,
-            p.global_costmap,
-            static,
-            keepout_filter(world, static, p.global_costmap.inflation, p.keepout),
-        )
-        self.local_layers = LayeredCostmap.local_costmap(
+        self.global_layers, self.local_layers = navigation_costmaps(
             world,
             base.pose(),
+            p.global_costmap,
             p.local_costmap,
             p.local_costmap_size,
-            local_static,
-            keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout),
+            p.keepout,
         )
         self.drive = drive = smoothed(base, self._clock, p.velocity_smoother)
         """What the stack commands: the base, or Nav2's velocity smoother in front of it."""
