@@ -63,8 +63,15 @@ class FollowWaypointsParams(NodeParams):
     """Navigate to each waypoint in turn and pause there."""
 
     waypoints: list[GoalPose] = Field(min_length=1, description="location names or poses")
-    wait_at_waypoint: NonNegative = Field(default=0.0, description="pause at each waypoint, s")
-    stop_on_failure: bool = Field(default=True, description="abort at the first missed waypoint")
+    wait_at_waypoint: NonNegative | None = Field(
+        default=None,
+        description="pause at each waypoint, s; default: the Nav2 parameter file's, else 0",
+    )
+    stop_on_failure: bool | None = Field(
+        default=None,
+        description="abort at the first missed waypoint; default: the Nav2 parameter file's, "
+        "else true",
+    )
 
     def summary(self) -> str:
         """The waypoints."""

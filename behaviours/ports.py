@@ -56,9 +56,13 @@ class NavigationPort(Protocol):
         ...
 
     def follow_waypoints(
-        self, waypoints: Sequence[Pose2D], wait_at_waypoint: float, stop_on_failure: bool
+        self,
+        waypoints: Sequence[Pose2D],
+        wait_at_waypoint: float | None,
+        stop_on_failure: bool | None,
     ) -> TaskHandle:
-        """Navigate to each waypoint in turn, pausing ``wait_at_waypoint`` s at each."""
+        """Navigate to each waypoint in turn, pausing ``wait_at_waypoint`` s at each; None takes
+        the navigation stack's setting (its Nav2 parameter file's)."""
         ...
 
     def follow_path(self, path: Sequence[Pose2D]) -> TaskHandle:

@@ -24,9 +24,10 @@ if TYPE_CHECKING:
     from baobab.nav.interfaces import MobileBase, ScanSource
     from baobab.nav.layered_costmap import CostmapParams
     from baobab.nav.navigate import NavigationMetrics, NavigatorParams
+    from baobab.nav.navigation_params import NavigationParams
     from baobab.nav.path import Path
     from baobab.nav.planner import PlannerParams
-    from baobab.nav.server import NavigationParams, NavigationServer, build_navigation
+    from baobab.nav.server import NavigationServer, build_navigation
     from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
 
 _EXPORTS = {
@@ -36,7 +37,7 @@ _EXPORTS = {
     "MobileBase": "baobab.nav.interfaces",
     "NavigationError": "baobab.nav.errors",
     "NavigationMetrics": "baobab.nav.navigate",
-    "NavigationParams": "baobab.nav.server",
+    "NavigationParams": "baobab.nav.navigation_params",
     "NavigationServer": "baobab.nav.server",
     "NavigatorParams": "baobab.nav.navigate",
     "Path": "baobab.nav.path",

@@ -38,6 +38,8 @@ class NavigatorDefaults:
         seed: seeds the run's one random generator (non-negative).
         realtime: pace the simulation to the wall clock (for watching); off, the simulation
             runs as fast as it computes.
+        nav2_params: a Nav2 parameter file that configures the navigation stack, or None.
+        nav2_substitute: accept the stated substitutes of plugins baobab does not have.
     """
 
     world: str | Path = DEFAULT_WORLD
@@ -45,6 +47,8 @@ class NavigatorDefaults:
     start: Pose2D | None = None
     seed: int = 0
     realtime: bool = False
+    nav2_params: str | Path | None = None
+    nav2_substitute: bool = False
 
     def __post_init__(self) -> None:
         if not isinstance(self.world, str | Path) or not str(self.world):
@@ -59,6 +63,10 @@ class NavigatorDefaults:
             raise TypeError(f"seed must be a non-negative int, not {self.seed!r}")
         if not isinstance(self.realtime, bool):
             raise TypeError(f"realtime must be a bool, not {self.realtime!r}")
+        if self.nav2_params is not None and not isinstance(self.nav2_params, str | Path):
+            raise TypeError(f"nav2_params must be a path or None, not {self.nav2_params!r}")
+        if not isinstance(self.nav2_substitute, bool):
+            raise TypeError(f"nav2_substitute must be a bool, not {self.nav2_substitute!r}")
 
 
 _STANDARD = NavigatorDefaults()
@@ -78,6 +86,8 @@ def use_navigator_defaults(
     start: Pose2D | None = None,
     seed: int | None = None,
     realtime: bool | None = None,
+    nav2_params: str | Path | None = None,
+    nav2_substitute: bool | None = None,
 ) -> Iterator[NavigatorDefaults]:
     """Override the navigator defaults inside a ``with`` block; ``None`` keeps a setting.
 
@@ -94,6 +104,8 @@ def use_navigator_defaults(
         start=current.start if start is None else start,
         seed=current.seed if seed is None else seed,
         realtime=current.realtime if realtime is None else realtime,
+        nav2_params=current.nav2_params if nav2_params is None else nav2_params,
+        nav2_substitute=current.nav2_substitute if nav2_substitute is None else nav2_substitute,
     )
     token = _current.set(updated)
     try:

@@ -40,7 +40,8 @@ Where baobab differs from Nav2, on purpose:
 * **Localisation is perfect.** ``setInitialPose()`` teleports the simulated robot;
   ``initial_pose_received`` is always True.
 * **Waypoints.** ``followWaypoints`` runs with ``stop_on_failure`` false (nav2_bringup's
-  setting): a missed waypoint is recorded and the robot goes on. The missed ones appear in the
+  setting) unless a parameter file (``params_file``) says otherwise: a missed waypoint is
+  recorded and the robot goes on. The missed ones appear in the
   feedback (``missed_waypoints``) and in ``result_future.result().result.missed_waypoints``.
 
 ``BasicNavigator`` is an rclpy ``Node`` (the shim's), so ``get_logger()``, ``get_clock()`` and
@@ -101,7 +102,8 @@ class BasicNavigator(NavigatorExternal):
     """Nav2's Simple Commander over a simulated robot (see the module docstring).
 
     The constructor is :class:`~baobab.nav.navigator_core.NavigatorCore`'s: ``node_name``,
-    ``namespace``, and keyword-only ``world``, ``robot``, ``start``, ``seed``, ``realtime``.
+    ``namespace``, and keyword-only ``world``, ``robot``, ``start``, ``seed``, ``realtime``,
+    ``params_file`` (a Nav2 ``nav2_params.yaml``) and ``nav2_substitute``.
     The task launchers (``goToPose``, ``spin``, ...) are in
     :class:`~baobab.nav.navigator_tasks.NavigatorTasks` and, for the servers baobab does not
     run yet, :class:`~baobab.nav.navigator_external.NavigatorExternal`; polling a task

@@ -10,6 +10,7 @@ services, costmaps and maps in :mod:`baobab.nav.navigator`.
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import math
 from collections.abc import Callable
@@ -17,6 +18,7 @@ from pathlib import Path as FilePath
 
 from baobab.nav import msgs
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
+from baobab.nav.nav2_configuration import Nav2Configuration, load_nav2_params
 from baobab.nav.navigator_robot import (
     SimulatedRobot,
     build_simulated_robot,
@@ -66,12 +68,22 @@ class NavigatorCore(Node):
             map without one, the map origin: :func:`~baobab.nav.navigator_robot.default_start`).
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
+        params_file: a Nav2 parameter file (``nav2_params.yaml``) that configures the
+            navigation stack (:mod:`baobab.nav.nav2_configuration`); its unused parameters
+            are logged once as a warning.
+        nav2_substitute: run the stated substitute of each plugin baobab does not have
+            (``--nav2-substitute``) instead of refusing the file.
 
-    ``world``, ``robot``, ``start``, ``seed`` and ``realtime`` left at None take the values of
+    ``world``, ``robot``, ``start``, ``seed``, ``realtime``, ``params_file`` and
+    ``nav2_substitute`` left at None take the values of
     :func:`~baobab.nav.defaults.navigator_defaults` (what ``baobab nav2 --world ...`` sets);
-    the default start applies only with the default world.
+    the default start applies only with the default world. The parameter file applies on top
+    of the robot's settings (:func:`~baobab.nav.robot_params.navigation_params`); without
+    one, FollowWaypoints goes on past a missed waypoint (nav2_bringup's
+    ``stop_on_failure: false``).
 
     Raises:
+        Nav2ParamsError: the parameter file cannot be used (located message).
         WorldError: the world cannot be loaded (located message).
         NavigatorSetupError: an unknown robot, or a start pose that is not free.
         RobotFileError: a robot file that cannot be used (located message).
@@ -88,6 +100,8 @@ class NavigatorCore(Node):
         start: Pose2D | None = None,
         seed: int | None = None,
         realtime: bool | None = None,
+        params_file: str | FilePath | None = None,
+        nav2_substitute: bool | None = None,
     ) -> None:
         defaults = navigator_defaults()
         settings = NavigatorDefaults(
@@ -98,6 +112,15 @@ class NavigatorCore(Node):
         )
         loaded = world if isinstance(world, World) else load_world(settings.world)
         self._robot = navigator_robot(defaults.robot if robot is None else robot)
+        base = dataclasses.replace(navigation_params(self._robot), waypoint_stop_on_failure=False)
+        self._params = base
+        self.nav2_configuration: Nav2Configuration | None = None
+        """What the parameter file set (None without one)."""
+        params_file = defaults.nav2_params if params_file is None else params_file
+        if params_file is not None:
+            substitute = defaults.nav2_substitute if nav2_substitute is None else nav2_substitute
+            self.nav2_configuration = load_nav2_params(params_file, base, substitute=substitute)
+            self._params = self.nav2_configuration.params
         self._seed = settings.seed
         self._time_offset = 0.0
         self._world = loaded
@@ -111,6 +134,9 @@ class NavigatorCore(Node):
         set_sim_time_source(self._sim_seconds)
         self._waits = NavigatorWaits(self._advance, lambda: round(self._sim_seconds() * S_TO_NS))
         self._waits.register()
+        warning = None if self.nav2_configuration is None else self.nav2_configuration.warning()
+        if warning is not None:
+            self.get_logger().warning(warning)
         self._setup()
 
     def _setup(self) -> None:
@@ -119,9 +145,10 @@ class NavigatorCore(Node):
     # -- the simulation -----------------------------------------------------------------------
 
     def _build(self, world: World, start: Pose2D) -> tuple[SimulatedRobot, NavigationServer]:
+        if self.nav2_configuration is not None:
+            world = self.nav2_configuration.filtered(world)
         rig = build_simulated_robot(self._robot, world, start, self._seed)
-        params = navigation_params(self._robot)
-        return rig, build_navigation(rig.sim, rig.base, rig.lidar, world, params=params)
+        return rig, build_navigation(rig.sim, rig.base, rig.lidar, world, params=self._params)
 
     def _sim_seconds(self) -> float:
         return self._time_offset + self._rig.sim.time

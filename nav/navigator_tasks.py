@@ -83,7 +83,6 @@ class NavigatorTasks(NavigatorTracking):
             RunningTask.FOLLOW_WAYPOINTS,
             lambda: self._server.follow_waypoints(
                 goal_poses(poses),
-                stop_on_failure=False,
                 number_of_loops=int(number_of_loops),
                 goal_index=int(goal_index),
             ),

@@ -15,9 +15,9 @@ from baobab.nav.controller_server import ControllerParams
 from baobab.nav.following import FollowingParams
 from baobab.nav.graceful_control import GracefulParams
 from baobab.nav.layered_costmap import CostmapParams
+from baobab.nav.navigation_params import NavigationParams
 from baobab.nav.plugged_servers import PluggedParams
 from baobab.nav.pure_pursuit import RegulatedPurePursuitParams
-from baobab.nav.server import NavigationParams
 from baobab.robots.catalog import RobotInfo
 from baobab.robots.tuning import RobotTuning
 

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -37,52 +36,31 @@ from baobab.nav.behaviors import (
     BackUp,
     Behavior,
     BehaviorContext,
-    BehaviorParams,
     DriveOnHeading,
     Spin,
     TeleopInput,
     Wait,
 )
-from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
+from baobab.nav.controller_server import FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
-from baobab.nav.costmap_filters import KeepoutParams, speed_filter
+from baobab.nav.costmap_filters import speed_filter
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
 from baobab.nav.interfaces import MobileBase, ScanSource, ServerTask
-from baobab.nav.layered_costmap import CostmapParams
-from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
+from baobab.nav.navigate import NavigateTask, NavigationMetrics
 from baobab.nav.navigation_costmaps import navigation_costmaps
+from baobab.nav.navigation_params import NavigationParams
 from baobab.nav.path import Path
-from baobab.nav.planner import GlobalPlanner, PlannerParams
-from baobab.nav.plugged_servers import PluggedParams, PluggedServerTasks
-from baobab.nav.smoother import SimpleSmoother
+from baobab.nav.planner import GlobalPlanner
+from baobab.nav.plugged_servers import PluggedServerTasks
 from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
+from baobab.nav.velocity_smoother import smoothed
 from baobab.nav.waypoints import WaypointFollower
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
-
-
-@dataclass(frozen=True)
-class NavigationParams:
-    """Every navigation setting: Nav2's defaults with a robot's figures
-    (:func:`~baobab.nav.robot_params.navigation_params`; the default robot's when built bare)."""
-
-    global_costmap: CostmapParams = field(default_factory=CostmapParams)
-    local_costmap: CostmapParams = field(default_factory=CostmapParams)
-    local_costmap_size: tuple[float, float] = (3.0, 3.0)
-    local_costmap_update_hz: float = 5.0
-    global_costmap_update_hz: float = 1.0
-    planner: PlannerParams = field(default_factory=PlannerParams)
-    smoother: SimpleSmoother = field(default_factory=SimpleSmoother)
-    controller: ControllerParams = field(default_factory=ControllerParams)
-    behaviors: BehaviorParams = field(default_factory=BehaviorParams)
-    navigator: NavigatorParams = field(default_factory=NavigatorParams)
-    waypoint_loop_rate: float = 20.0
-    plugged: PluggedParams = field(default_factory=PluggedParams)
-    keepout: KeepoutParams = field(default_factory=KeepoutParams)
 
 
 class NavigationServer(PluggedServerTasks):
@@ -119,16 +97,18 @@ class NavigationServer(PluggedServerTasks):
             p.local_costmap_size,
             p.keepout,
         )
+        self.drive = drive = smoothed(base, self._clock, p.velocity_smoother)
+        """What the stack commands: the base, or Nav2's velocity smoother in front of it."""
         self.speed_filter = speed_filter(world)
         self.planner = GlobalPlanner(p.planner, p.smoother)
         self.through_poses = ThroughPosesPlanner(self.planner)
         self.smoother = p.smoother
-        self.follower = PathFollower(base, self.local_costmap, p.controller)
+        self.follower = PathFollower(drive, self.local_costmap, p.controller)
         self.teleop_input = TeleopInput()
         self.teleop_stats = AssistedTeleopStats()
         self.costmap_updates = CostmapUpdates(base, self.local_layers, self.global_layers)
         self.behavior_context = BehaviorContext(
-            base,
+            drive,
             self.local_costmap,
             p.behaviors,
             self.teleop_input,
@@ -136,19 +116,21 @@ class NavigationServer(PluggedServerTasks):
             teleop_stats=self.teleop_stats,
         )
         self.metrics = NavigationMetrics()
-        self.tasks = TaskSlot(base, self.follower, self._clock)
+        self.tasks = TaskSlot(drive, self.follower, self._clock)
         self._plug_in(self, sim, lidar, world, p.plugged)  # action_servers, services
         self._lidar = lidar
         self._last_pose = base.pose()
         if lidar is not None:
             lidar.subscribe(self.costmap_updates.on_scan)
-        self._timers: list[PeriodicHandle] = [
-            sim.every(1.0 / p.local_costmap_update_hz, self._update_local, name="nav local"),
-            sim.every(1.0 / p.global_costmap_update_hz, self._update_global, name="nav global"),
-            sim.every(
-                1.0 / p.controller.controller_frequency, self._on_control, name="nav control"
-            ),
+        rates = (
+            (p.local_costmap_update_hz, self._update_local, "nav local"),
+            (p.global_costmap_update_hz, self._update_global, "nav global"),
+            (p.controller.controller_frequency, self._on_control, "nav control"),
+        )
+        self.timers: list[PeriodicHandle] = [
+            sim.every(_period(sim, rate), callback, name=name) for rate, callback, name in rates
         ]
+        """Its periodic callbacks: ``nav local``, ``nav global`` (costmaps), ``nav control``."""
 
     # -- tasks (the NavigationPort) -----------------------------------------------------------
 
@@ -172,8 +154,8 @@ class NavigationServer(PluggedServerTasks):
     def follow_waypoints(
         self,
         waypoints: Sequence[Pose2D],
-        wait_at_waypoint: float = 0.0,
-        stop_on_failure: bool = True,
+        wait_at_waypoint: float | None = None,
+        stop_on_failure: bool | None = None,
         *,
         number_of_loops: int = 0,
         goal_index: int = 0,
@@ -182,15 +164,19 @@ class NavigationServer(PluggedServerTasks):
 
         ``missed_waypoints`` in the feedback lists the waypoints that could not be reached;
         with ``stop_on_failure`` the first one ends the task (STOP_ON_MISSED_WAYPOINT).
+        Either left at None takes the server's setting (``params.waypoint_pause``,
+        ``params.waypoint_stop_on_failure``: Nav2's waypoint follower parameters).
         """
-        points = list(waypoints)
+        points, p = list(waypoints), self.params
+        wait = p.waypoint_pause if wait_at_waypoint is None else wait_at_waypoint
+        stop = p.waypoint_stop_on_failure if stop_on_failure is None else stop_on_failure
 
         def make() -> ServerTask:
             return WaypointFollower(
                 points,
                 lambda pose: self._navigate_task([pose], through_poses=False),
-                wait_at_waypoint=wait_at_waypoint,
-                stop_on_failure=stop_on_failure,
+                wait_at_waypoint=wait,
+                stop_on_failure=stop,
                 loop_rate=self.params.waypoint_loop_rate,
                 number_of_loops=number_of_loops,
                 goal_index=goal_index,
@@ -201,8 +187,8 @@ class NavigationServer(PluggedServerTasks):
                 return False
             task.preempt(
                 points,
-                wait_at_waypoint=wait_at_waypoint,
-                stop_on_failure=stop_on_failure,
+                wait_at_waypoint=wait,
+                stop_on_failure=stop,
                 number_of_loops=number_of_loops,
             )
             return True
@@ -408,7 +394,7 @@ class NavigationServer(PluggedServerTasks):
         """Cancel the running task and stop every callback and subscription."""
         self.cancel()
         self._unplug()
-        for timer in self._timers:
+        for timer in self.timers:
             timer.cancel()
         if self._lidar is not None:
             self._lidar.unsubscribe(self.costmap_updates.on_scan)
@@ -448,6 +434,12 @@ class NavigationServer(PluggedServerTasks):
         )
         self._last_pose = pose
         self.tasks.tick(now)
+
+
+def _period(sim: Simulation, rate: float) -> float:
+    """The period (s) of ``rate`` (Hz) as the nearest whole number of physics steps, at least
+    one: a rate from a Nav2 parameter file need not divide the step (15 Hz on 5 ms: 65 ms)."""
+    return max(round(1.0 / (rate * sim.physics_dt)), 1) * sim.physics_dt
 
 
 def _checked(behavior: Behavior, disable_collision_checks: bool) -> Behavior:

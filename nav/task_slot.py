@@ -57,6 +57,11 @@ class TaskSlot:
         self._active: _Active | None = None
 
     @property
+    def task(self) -> ServerTask | None:
+        """The running task itself (for inspection), or None."""
+        return None if self._active is None else self._active.task
+
+    @property
     def handle(self) -> TaskHandle | None:
         """The handle of the running task, or None."""
         return None if self._active is None else self._active.handle

@@ -365,7 +365,7 @@ def test_navigation_leaves_send_their_parameters(tmp_path: Path) -> None:
     assert isinstance(through, list)
     assert through[0] == a
     assert through[1].yaw == pytest.approx(math.pi / 2)
-    assert calls["follow_waypoints"] == ([b], 2.0, True)
+    assert calls["follow_waypoints"] == ([b], 2.0, None)  # None: the stack's setting
     assert calls["follow_path"] == ([a, b],)
     assert calls["spin"] == (pytest.approx(-math.pi / 2), 5.0)
     assert calls["clear_costmaps"] == ("global",)

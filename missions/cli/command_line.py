@@ -233,6 +233,18 @@ def _nav2(args: argparse.Namespace) -> int:
     return nav2_command(args)
 
 
+def _configure_nav2_params(parser: argparse.ArgumentParser) -> None:
+    from baobab.missions.cli.nav2_params_command import configure_nav2_params
+
+    configure_nav2_params(parser)
+
+
+def _nav2_params(args: argparse.Namespace) -> int:
+    from baobab.missions.cli.nav2_params_command import nav2_params_command
+
+    return nav2_params_command(args)
+
+
 def _configure_ros(parser: argparse.ArgumentParser) -> None:
     from baobab.missions.cli.ros_command import configure_ros
 
@@ -260,6 +272,11 @@ SUBCOMMANDS: dict[str, Subcommand] = {
         _configure_campaign, _campaign, "seeded sweeps of a mission, in parallel"
     ),
     "nav2": Subcommand(_configure_nav2, _nav2, "run a Nav2 Simple Commander script"),
+    "nav2-params": Subcommand(
+        _configure_nav2_params,
+        _nav2_params,
+        "show how a Nav2 parameter file configures baobab's navigation stack",
+    ),
     "ros": Subcommand(_configure_ros, _ros, "run rclpy node files or a launch file on sim time"),
 }
 """Subcommand name -> its arguments, handler and help, in the order ``baobab --help`` lists them."""

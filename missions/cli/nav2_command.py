@@ -1,14 +1,15 @@
 """``baobab nav2 SCRIPT.py --world NAME [--robot NAME_OR_PATH] [--start X,Y,YAW] [--seed N]
-[--realtime]``.
+[--realtime] [--nav2-params FILE [--nav2-substitute]]``.
 
 Runs a Nav2 Simple Commander script as it is (:func:`baobab.nav.script_runner.run_nav2_script`):
 its ``BasicNavigator()`` builds the given world (a bundled name, a world file or a map_server
 map YAML) with ``--robot`` (a bundled mobile robot or a robot file; default: the registry's
 default mobile robot) at ``--start`` (default: the world's spawn; on a map without one, the map
-origin), seeded with ``--seed``, paced to the wall clock with ``--realtime``. The script's output
-and exit status pass through unchanged. A mistake in the arguments (an unknown world or robot,
-a robot file that cannot be used, a malformed or blocked start pose, a negative seed) exits 2
-with one line on standard error before the script runs.
+origin), seeded with ``--seed``, paced to the wall clock with ``--realtime``, its navigation
+stack configured by the Nav2 parameter file ``--nav2-params``. The script's output and exit
+status pass through unchanged. A mistake in the arguments (an unknown world or robot, a robot
+file or a parameter file that cannot be used, a malformed or blocked start pose, a negative
+seed) exits 2 with one line on standard error before the script runs.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import argparse
 import sys
 
 from baobab.missions.cli.arguments import add_start, robot_footprint, start_pose
+from baobab.missions.cli.nav2_params_command import add_nav2_params_options
 from baobab.missions.run.exit_codes import EXIT_INVALID
 from baobab.sim.errors import BaobabError, clip, one_line
 from baobab.sim.world import load_world
@@ -44,6 +46,7 @@ def configure_nav2(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--realtime", action="store_true", help="pace the simulation to the wall clock"
     )
+    add_nav2_params_options(parser)
 
 
 def nav2_command(args: argparse.Namespace) -> int:
@@ -69,6 +72,13 @@ def nav2_command(args: argparse.Namespace) -> int:
         "seed": seed,
         "realtime": args.realtime,
     }
+    if args.nav2_params is not None:
+        from baobab.nav.nav2_configuration import load_nav2_params
+
+        # Refused here, before the script runs; the script's navigators read it again.
+        load_nav2_params(args.nav2_params, substitute=args.nav2_substitute)
+        defaults["nav2_params"] = args.nav2_params
+        defaults["nav2_substitute"] = args.nav2_substitute
     return run_nav2_script(args.script, navigator_defaults=defaults)
 
 

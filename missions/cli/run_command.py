@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING, Any
 
 from baobab.missions.cli.arguments import add_robot, add_set, port, positive_int, video_size
 from baobab.missions.cli.interrupts import RunSignals
+from baobab.missions.cli.nav2_params_command import add_nav2_params_options
 from baobab.missions.cli.run_job import (
     FinishedRun,
     RunRequest,
@@ -109,6 +110,7 @@ def configure_run(parser: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="compare sim time, path length and recoveries with FILE (created if missing)",
     )
+    add_nav2_params_options(parser)
     seeing = parser.add_argument_group("seeing what happened")
     seeing.add_argument(
         "--record",
@@ -188,8 +190,15 @@ def _checked_run(
 ) -> int:
     """Load and check the mission, the baseline and the run folder; then run and report."""
     mission = load_mission(
-        resolve_mission(args.mission), overrides, robot=args.robot, world=args.world
+        resolve_mission(args.mission),
+        overrides,
+        robot=args.robot,
+        world=args.world,
+        nav2_params=args.nav2_params,
+        nav2_substitute=args.nav2_substitute,
     )
+    if mission.nav2_warning is not None:
+        print(f"warning: {mission.nav2_warning}", file=sys.stderr)
     baseline = None
     if args.baseline and not args.baseline.exists():  # made after the run: must be writable
         check_output_file("--baseline", args.baseline, create_folders=True)

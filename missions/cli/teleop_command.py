@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, TextIO
 
 from baobab.missions.cli.arguments import add_start, start_pose
+from baobab.missions.cli.nav2_params_command import add_nav2_params_options
 from baobab.missions.run.exit_codes import EXIT_INVALID, EXIT_OK
 from baobab.robots.catalog import RobotInfo, default_mobile_robot
 from baobab.robots.diff_drive.teleop import LAYOUTS, layout_named
@@ -42,6 +43,7 @@ from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D, World, load_world
 
 if TYPE_CHECKING:
+    from baobab.nav.navigation_params import NavigationParams
     from baobab.nav.server import NavigationServer
 
 TICK = 0.05
@@ -90,6 +92,8 @@ class TeleopSession:
         keys: the key rules (layout, hold time, speeds).
         robot: the robot (default: the registry's default mobile robot).
         start: where the robot starts (m, rad); default: the world's spawn.
+        params: the navigation settings (``--nav2-params`` applied to the robot's); the
+            robot's own when None.
     """
 
     def __init__(
@@ -98,6 +102,7 @@ class TeleopSession:
         keys: TerminalKeys,
         robot: RobotInfo | None = None,
         start: Pose2D | None = None,
+        params: NavigationParams | None = None,
     ) -> None:
         from baobab.nav.robot_params import navigation_params  # the navigation stack loads slowly
         from baobab.nav.server import build_navigation
@@ -111,7 +116,7 @@ class TeleopSession:
             self.robot.base,
             self.robot.lidar,
             world,
-            params=navigation_params(self.info),
+            params=params or navigation_params(self.info),
         )
         self.handle = self.server.assisted_teleop(0.0)
 
@@ -244,6 +249,7 @@ def configure_teleop(parser: argparse.ArgumentParser) -> None:
         metavar="SECONDS",
         help=f"how long one key press keeps moving the robot (default {DEFAULT_HOLD_TIME:g})",
     )
+    add_nav2_params_options(parser)
 
 
 def _positive_seconds(text: str) -> float:
@@ -262,6 +268,7 @@ def teleop_command(args: argparse.Namespace) -> int:
     Raises:
         WorldError: for an unknown world (the CLI prints it and exits 2).
         RobotFileError: a robot file that cannot be used (exit 2).
+        Nav2ParamsError: a parameter file that cannot be used (exit 2).
         NavigatorSetupError: an unknown or fixed robot (exit 2).
         BaobabError: a malformed start, or one not free for the robot (exit 2).
     """
@@ -270,6 +277,18 @@ def teleop_command(args: argparse.Namespace) -> int:
     world = load_world(args.world)
     robot = navigator_robot(args.robot)
     start = start_pose(args.start, world, robot.mobile_facts.footprint)
+    params = None
+    if args.nav2_params is not None:
+        from baobab.nav.nav2_configuration import load_nav2_params
+        from baobab.nav.robot_params import navigation_params
+
+        base = navigation_params(robot)
+        configuration = load_nav2_params(args.nav2_params, base, substitute=args.nav2_substitute)
+        params = configuration.params
+        world = configuration.filtered(world)
+        warning = configuration.warning()
+        if warning is not None:
+            print(f"warning: {warning}", file=sys.stderr)
     stdin = sys.stdin
     if stdin is None or not stdin.isatty():
         print("baobab teleop: needs an interactive terminal (stdin is not a TTY)", file=sys.stderr)
@@ -278,7 +297,7 @@ def teleop_command(args: argparse.Namespace) -> int:
     keys = TerminalKeys(
         layout_named(args.layout), hold_time=args.hold, linear_speed=linear, angular_speed=angular
     )
-    session = TeleopSession(world, keys, robot, start)
+    session = TeleopSession(world, keys, robot, start, params)
     out = sys.stdout
     width = _terminal_width()
     out.write(help_text(keys, world.name, width) + "\n\x1b[?25l")

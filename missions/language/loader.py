@@ -19,9 +19,9 @@ Order of work (each step's errors come before the next step's):
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pydantic import TypeAdapter, ValidationError
 
@@ -61,6 +61,9 @@ from baobab.sim.yaml_source import (
     read_yaml_text,
 )
 
+if TYPE_CHECKING:
+    from baobab.nav.nav2_params_file import Nav2ParamsFile
+
 SCHEMA_HEADER = "# yaml-language-server: $schema="
 """The editor comment that bundled and generated missions begin with, before the schema's
 location; optional in a mission file."""
@@ -92,6 +95,10 @@ class Mission:
         expect: the expectations, if any.
         document: the located YAML document (for messages about nodes).
         noise: the run's sensor noise (off unless the file asks for it).
+        nav2_params: the Nav2 parameter file that configures the navigation stack
+            (``nav2_params:`` or ``--nav2-params``), read and checked; None without one.
+        nav2_substitute: run the stated substitutes of plugins baobab does not have.
+        nav2_warning: the one warning about the file's parameters baobab does not use.
     """
 
     path: Path
@@ -113,6 +120,9 @@ class Mission:
     expect: Expect | None
     document: LocatedDocument
     noise: Noise = field(default_factory=Noise)
+    nav2_params: Nav2ParamsFile | None = None
+    nav2_substitute: bool = False
+    nav2_warning: str | None = None
 
 
 def load_mission(
@@ -123,6 +133,8 @@ def load_mission(
     registry: Registry | None = None,
     robot: str | None = None,
     world: str | Path | None = None,
+    nav2_params: str | Path | None = None,
+    nav2_substitute: bool = False,
 ) -> Mission:
     """Load, substitute and validate a mission file.
 
@@ -135,19 +147,25 @@ def load_mission(
             directory) that replaces the mission's ``robot:``, if the mission fits it.
         world: a world in place of the mission's (``--world``): a bundled name, a world file
             or a map_server map YAML anywhere (the user named it); a mobile robot's only.
+        nav2_params: ``--nav2-params``: a Nav2 parameter file (anywhere: the user named it)
+            in place of the mission's ``nav2_params:``.
+        nav2_substitute: ``--nav2-substitute``: accept the stated substitutes of the plugins
+            baobab does not have.
 
     Raises:
         MissionError: the first problem, as ``path:line:col: message``.
         WorldError: a problem inside the world file the mission names.
         RobotFileError: a problem inside the robot file the mission or ``robot`` names.
         BaobabError: ``robot`` names no bundled robot.
+        Nav2ParamsError: a problem inside the Nav2 parameter file (located there).
     """
     mission_path = Path(path)
     if text is None:
         text = read_yaml_text(mission_path, MissionError)
     document = load_located_yaml(mission_path, MissionError, text=text)
     loader = _Loader(mission_path, document, text, registry or default_registry(), world)
-    return loader.load(overrides or {}, robot)
+    mission = loader.load(overrides or {}, robot)
+    return _with_nav2_params(mission, nav2_params, nav2_substitute)
 
 
 class _Loader:
@@ -178,6 +196,7 @@ class _Loader:
             "world",
             "robot",
             "robots",
+            "nav2_params",
             "seed",
             "params",
             "locations",
@@ -210,6 +229,9 @@ class _Loader:
         world, world_name = self._world(file.world, robot)
         if file.filters is not None:
             world = self._filters(file.filters, world)
+        nav2_params = None
+        if file.nav2_params is not None:
+            nav2_params = self._file_in_folder("nav2_params", file.nav2_params)
         scope = MissionScope(
             robot, world, self._locations(file, robot, world), self.path.parent.resolve()
         )
@@ -242,6 +264,7 @@ class _Loader:
             expect=file.expect,
             document=self.document,
             noise=file.noise,
+            nav2_params=None if nav2_params is None else _read_nav2(nav2_params),
         )
 
     def _top_level(self) -> dict[str, Any]:
@@ -404,3 +427,39 @@ class _Loader:
         if problem is not None:
             raise self._error(("start",), f"start {problem}")
         return pose.pose2d()
+
+
+def _read_nav2(path: Path) -> Nav2ParamsFile:
+    """The mission's Nav2 parameter file, read (its own errors are located in it)."""
+    from baobab.nav.nav2_params_file import read_nav2_params
+
+    return read_nav2_params(path)
+
+
+def _with_nav2_params(mission: Mission, override: str | Path | None, substitute: bool) -> Mission:
+    """``mission`` with ``--nav2-params`` in place of its own file, the file checked against
+    the navigation stack (types, ranges, plugins), its filter masks laid on the world and its
+    warning made."""
+    params = mission.nav2_params
+    if override is not None:
+        from baobab.nav.nav2_params_file import read_nav2_params
+
+        params = read_nav2_params(override)
+    if params is None:
+        return mission
+    if not mission.robot.mobile:
+        message = f"robot '{mission.robot.name}' has no navigation stack for a Nav2 parameter file"
+        if override is not None:
+            raise BaobabError(f"--nav2-params: {message}")
+        raise located(mission.document, ("nav2_params",), message)
+    from baobab.nav.nav2_configuration import configure_navigation
+
+    configuration = configure_navigation(params, substitute=substitute)
+    world = mission.world if mission.world is None else configuration.filtered(mission.world)
+    return replace(
+        mission,
+        world=world,
+        nav2_params=params,
+        nav2_substitute=substitute,
+        nav2_warning=configuration.warning(),
+    )

@@ -428,6 +428,11 @@ class MissionFile(_Strict):
         min_length=1,
         description="the bundled robots this mission fits; robot: and --robot must be one",
     )
+    nav2_params: str | None = Field(
+        default=None,
+        description="a Nav2 parameter file (nav2_params.yaml) inside the mission's folder that "
+        "configures the navigation stack",
+    )
     start: Annotated[Any, POSE_REF_SCHEMA] = Field(
         default=None,
         description="start pose or location; default: the world's spawn (a map has none)",

@@ -111,14 +111,25 @@ def mission_goals(mission: Mission) -> list[tuple[str, Pose]]:
 
 
 def build_navigation(
-    sim: Simulation, robot: MobileRobot, info: RobotInfo, world: World, teleop: TeleopChannel
+    sim: Simulation,
+    robot: MobileRobot,
+    info: RobotInfo,
+    world: World,
+    teleop: TeleopChannel,
+    mission: Mission | None = None,
 ) -> NavigationServer:
-    """The navigation server of the mobile robot ``info`` describes, with its settings, fed by
-    teleop events (imported only now)."""
+    """The navigation server of the mobile robot ``info`` describes, with its settings (and the
+    ``mission``'s Nav2 parameter file's on top, with or without substitutes), fed by teleop
+    events (imported only now)."""
     from baobab.nav.robot_params import navigation_params
     from baobab.nav.server import build_navigation as build_server
 
     params = navigation_params(info)
+    if mission is not None and mission.nav2_params is not None:
+        from baobab.nav.nav2_configuration import configure_navigation
+
+        substitute = mission.nav2_substitute
+        params = configure_navigation(mission.nav2_params, params, substitute=substitute).params
     server = build_server(sim, robot.base, robot.lidar, world, params=params)
     teleop.subscribe(lambda twist: server.teleop_command(*(twist or (0.0, 0.0))))
     return server
@@ -151,7 +162,10 @@ class ClearCountingPort:
         return self.server.navigate_through_poses(goals)
 
     def follow_waypoints(
-        self, waypoints: Sequence[Pose2D], wait_at_waypoint: float, stop_on_failure: bool
+        self,
+        waypoints: Sequence[Pose2D],
+        wait_at_waypoint: float | None,
+        stop_on_failure: bool | None,
     ) -> TaskHandle:
         """The server's FollowWaypoints."""
         return self.server.follow_waypoints(waypoints, wait_at_waypoint, stop_on_failure)
@@ -220,7 +234,9 @@ class MobileRig:
         port: NavigationPort | None = None
         sim = self.sim
         if uses_capability(mission, NAVIGATION):
-            self.navigation = build_navigation(sim, self.robot, self.info, world, self.teleop)
+            self.navigation = build_navigation(
+                sim, self.robot, self.info, world, self.teleop, mission
+            )
             self.clear_counter = ClearCountingPort(self.navigation)
             port = self.clear_counter
             sim.every(PATH_SAMPLE_PERIOD, self._sample_path, name="plot paths")
