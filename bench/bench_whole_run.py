@@ -21,6 +21,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -103,18 +104,32 @@ def run_process(
     return wall, result, done.stderr
 
 
+def children_cpu() -> float:
+    """CPU seconds (user + system) of this process's ended and reaped children so far."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def whole_figures(repeats: int = 5) -> list[Figure]:
-    """``baobab run walls_go_to_goal``, whole process, warm, against ``import mujoco``."""
+    """``baobab run walls_go_to_goal``, whole process, warm, against ``import mujoco``: wall
+    seconds, and CPU seconds of the process and its run's process (which a loaded machine
+    inflates far less than the wall time)."""
     whole: list[float] = []
     bare: list[float] = []
+    whole_cpu: list[float] = []
+    bare_cpu: list[float] = []
     with tempfile.TemporaryDirectory() as out:
         env = compiled_env(f"{out}/pycache")
         for index in range(repeats + 1):  # the first round warms the bytecode cache
+            before = children_cpu()
             mujoco = timed_process([sys.executable, "-c", "import mujoco"], env)
+            between = children_cpu()
             wall, result, _ = run_process("walls_go_to_goal", Path(out) / str(index), env)
             if index and result is not None:
                 whole.append(wall)
                 bare.append(mujoco)
+                bare_cpu.append(between - before)
+                whole_cpu.append(children_cpu() - between)
     command = "baobab run walls_go_to_goal (whole process, warm)"
     if not whole:
         return [
@@ -153,6 +168,22 @@ def whole_figures(repeats: int = 5) -> list[Figure]:
             0.5,
             False,
             command,
+        ),
+        Figure(
+            "CPU of baobab run walls_go_to_goal, both processes (median)",
+            statistics.median(whole_cpu),
+            "s",
+            None,
+            False,
+            command,
+        ),
+        Figure(
+            "CPU of python -c 'import mujoco' (median)",
+            statistics.median(bare_cpu),
+            "s",
+            None,
+            False,
+            "python -c 'import mujoco'",
         ),
     ]
 
