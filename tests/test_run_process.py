@@ -228,3 +228,16 @@ def test_the_run_process_is_forked_before_the_run_command_loads(tmp_path: Path) 
     loaded = report["forks"][0]
     assert "baobab.missions.cli.run_command" not in loaded
     assert "pydantic" not in loaded and "py_trees" not in loaded  # its plugin stand-in only
+
+
+def test_the_run_process_loads_its_stack_with_the_collector_paused_then_frozen() -> None:
+    script = (
+        "import gc, json\n"
+        "from baobab.missions.cli.run_process import prepare_run_process\n"
+        "prepare_run_process()\n"
+        "print(json.dumps([gc.isenabled(), gc.get_freeze_count() > 100_000]))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=True
+    )
+    assert json.loads(done.stdout) == [True, True]  # enabled again; the modules' objects frozen

@@ -32,9 +32,17 @@ def start_run_process() -> StartedChild | None:
 def prepare_run_process() -> None:
     """What a run's process loads before it knows its mission: the run's modules (MuJoCo,
     py_trees, numba), the modules its request arrives in (the mission language, the run job)
-    and the compiled control dispatcher every robot uses."""
-    import baobab.missions.cli.run_job
-    import baobab.missions.run.runner  # noqa: F401  (both imported for their cost, now)
-    from baobab.sim.native_control import load_dispatcher
+    and the compiled control dispatcher every robot uses.
 
-    load_dispatcher()
+    With the cyclic garbage collector paused, then the loaded objects frozen
+    (:func:`~baobab.missions.cli.startup.loading_modules`): the collector would otherwise walk
+    them again and again while they are made, a tenth of this work.
+    """
+    from baobab.missions.cli.startup import loading_modules
+
+    with loading_modules():
+        import baobab.missions.cli.run_job
+        import baobab.missions.run.runner  # noqa: F401  (both imported for their cost, now)
+        from baobab.sim.native_control import load_dispatcher
+
+        load_dispatcher()
