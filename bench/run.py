@@ -3,6 +3,7 @@
     python bench/run.py                 # every figure but the test suite (several minutes)
     python bench/run.py --with-tests    # also time `pytest -n 2` (about 3 more minutes)
     python bench/run.py --only planner startup
+    python bench/run.py --only robots    # cafe_delivery's real-time factor on each mobile robot
     python bench/run.py --only install --with-tests  # fresh clones, venvs and installs (long)
     python bench/run.py --only longrun badinputs     # optional sections, not in the default set
 
@@ -44,6 +45,9 @@ from bench_whole_run import (  # noqa: E402  (beside this script)
     whole_figures,
 )
 
+ROBOT_MISSION = "cafe_delivery"
+"""The mission every bundled mobile robot runs for the per-robot real-time factor."""
+
 
 def _bundled_missions() -> list[str]:
     from baobab.missions.language.bundled_missions import bundled_missions
@@ -57,8 +61,11 @@ def _bundled(name: str) -> Path:
     return Path(resolve_mission(name))
 
 
-def _run_in_process(name: str, runs: int = 2) -> tuple[float, float, float]:
-    """Run a bundled mission in this process; return (sim time, loop wall time, bare wall time).
+def _run_in_process(
+    name: str, runs: int = 2, robot: str | None = None
+) -> tuple[float, float, float]:
+    """Run a bundled mission in this process (on ``robot`` instead of its own, if given);
+    return (sim time, loop wall time, bare wall time).
 
     The loop time is the best of ``runs`` runs: the first run of a process also loads the
     compiled kernels' caches, which is start-up (the ``startup`` and ``missions`` figures),
@@ -71,7 +78,7 @@ def _run_in_process(name: str, runs: int = 2) -> tuple[float, float, float]:
     from baobab.missions.run.rig import build_rig
     from baobab.missions.run.runner import run_mission
 
-    mission = load_mission(_bundled(name))
+    mission = load_mission(_bundled(name), robot=robot)
     records = [run_mission(mission) for _ in range(runs)]
     record = min(records, key=lambda run: run.wall_time)
     sim_time = float(record.outcome.sim_time)
@@ -114,6 +121,41 @@ def mission_figures() -> list[Figure]:
                 command,
             )
         )
+    return figures
+
+
+def robot_figures() -> list[Figure]:
+    """The real-time factor of the same mission (:data:`ROBOT_MISSION`) on each mobile robot,
+    and its ratio to the default robot's (both measured in this run)."""
+    from baobab.robots.catalog import DEFAULT_MOBILE_ROBOT, MOBILE_ROBOTS
+
+    figures: list[Figure] = []
+    factors: dict[str, float] = {}
+    for robot in MOBILE_ROBOTS:
+        sim_time, wall, _ = _run_in_process(ROBOT_MISSION, robot=robot)
+        factors[robot] = sim_time / wall
+        figures.append(
+            Figure(
+                f"real-time factor {ROBOT_MISSION} on {robot}",
+                factors[robot],
+                "x",
+                100.0,
+                True,
+                f"baobab run {ROBOT_MISSION} --robot {robot} --json (sim_time / wall_time)",
+            )
+        )
+    for robot in MOBILE_ROBOTS:
+        if robot != DEFAULT_MOBILE_ROBOT:
+            figures.append(
+                Figure(
+                    f"real-time factor {robot} / {DEFAULT_MOBILE_ROBOT} ({ROBOT_MISSION})",
+                    factors[robot] / factors[DEFAULT_MOBILE_ROBOT],
+                    "ratio",
+                    0.5,
+                    True,
+                    "python bench/run.py --only robots",
+                )
+            )
     return figures
 
 
@@ -465,6 +507,40 @@ def bad_input_figures() -> list[Figure]:
     ]
 
 
+def map_figures() -> list[Figure]:
+    """Issue 22: a 2000 x 2000-cell map loaded and built; its lidar scan against the cafe's."""
+    report = _script_report("bench_maps.py", quiet=True)
+    command = "python bench/bench_maps.py"
+    return [
+        Figure(
+            f"map {report['cells']} x {report['cells']} cells: load + build the model "
+            f"({report['static_boxes']} boxes)",
+            report["load_and_build_s"],
+            "s",
+            1.5,
+            False,
+            command,
+        ),
+        Figure("map: lidar scan / the cafe's", report["scan_ratio"], "ratio", 2.0, False, command),
+        Figure(
+            f"map: mj_step / the cafe's ({report['sensors']} sensors)",
+            report["step_ratio"],
+            "ratio",
+            4.0,
+            False,
+            command,
+        ),
+        Figure(
+            "map: real-time factor of a 9 m NavigateToPose, set-up included",
+            report["navigation"]["rtf"],
+            "x",
+            20.0,
+            True,
+            command,
+        ),
+    ]
+
+
 def ros_figures() -> list[Figure]:
     """Issue 25: node code against the simulation (``baobab ros run``), loop real-time factor."""
     report = _script_report("bench_ros.py", quiet=True)
@@ -523,10 +599,12 @@ SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "memory": memory_figures,
     "whole": whole_figures,
     "missions": mission_figures,
+    "robots": robot_figures,
     "suite": suite_figures,
     "planner": planner_figures,
     "startup": startup_figures,
     "arm": arm_figures,
+    "maps": map_figures,
     "ros": ros_figures,
     "scripts": script_sleep_figures,
 }

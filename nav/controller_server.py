@@ -18,27 +18,32 @@ from typing import Any
 
 from baobab.nav.checkers import SimpleGoalChecker, SimpleProgressChecker
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import SpeedLimit
 from baobab.nav.errors import FollowPathError, NavigationError
 from baobab.nav.feedback import path_tracking
 from baobab.nav.interfaces import MobileBase
 from baobab.nav.path import Path
 from baobab.nav.pure_pursuit import RegulatedPurePursuit, RegulatedPurePursuitParams
+from baobab.robots.catalog import default_mobile_robot
 from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D
+
+_ROBOT = default_mobile_robot().tuning
 
 
 @dataclass(frozen=True)
 class ControllerParams:
-    """Controller server settings: Nav2 bringup's (Hz, s, m, rad)."""
+    """Controller server settings: Nav2 bringup's (Hz, s, m, rad), the goal and progress
+    checkers' for a robot (the default one unless given)."""
 
     controller_frequency: float = 20.0
     failure_tolerance: float = 0.3
-    xy_goal_tolerance: float = 0.25
-    yaw_goal_tolerance: float = 0.25
+    xy_goal_tolerance: float = _ROBOT.goal_tolerances[0]
+    yaw_goal_tolerance: float = _ROBOT.goal_tolerances[1]
     stateful: bool = True
     path_length_tolerance: float = 1.0
-    required_movement_radius: float = 0.5
-    movement_time_allowance: float = 10.0
+    required_movement_radius: float = _ROBOT.progress[0]
+    movement_time_allowance: float = _ROBOT.progress[1]
     rpp: RegulatedPurePursuitParams = field(default_factory=RegulatedPurePursuitParams)
 
 
@@ -77,6 +82,8 @@ class PathFollower:
         self.feedback: dict[str, Any] = {}
         self._last_valid = 0.0
         self._lengths: list[float] = [0.0]
+        self.speed_limit: SpeedLimit | None = None
+        """The speed limit in force (None: none was ever set)."""
 
     def start(self, path: Path, now: float) -> None:
         """Begin following ``path`` at sim time ``now`` (s): a new goal, checkers reset."""
@@ -91,6 +98,12 @@ class PathFollower:
         self.path = path
         self.goal_checker.reset()
         self._lengths = path.cumulative_lengths.tolist()  # list items read faster than numpy's
+
+    def set_speed_limit(self, limit: SpeedLimit) -> None:
+        """Apply a speed limit (a speed filter's) to the controller, as Nav2's controller server
+        forwards ``speed_limit`` to its controller; it lasts until the next one."""
+        self.speed_limit = limit
+        self.controller.set_speed_limit(limit)
 
     def remaining_length(self) -> float:
         """Length (m) of :attr:`located_path` from the pose closest to the robot last cycle."""

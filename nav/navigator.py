@@ -2,7 +2,7 @@
 
 A Nav2 script drives a robot through ``nav2_simple_commander.robot_navigator.BasicNavigator``:
 send a goal, poll ``isTaskComplete()``, read ``getFeedback()``, then ``getResult()``. Here the
-same calls drive the :class:`~baobab.nav.server.NavigationServer` of a TurtleBot3 in a MuJoCo
+same calls drive the :class:`~baobab.nav.server.NavigationServer` of a mobile robot in a MuJoCo
 world that the navigator builds for itself. Method names, parameters, defaults, feedback field
 names and message types are those of Nav2's current release (reference/nav2.md §1-§2,
 nav2_ros_facts.md §4-§5), with every older release's names kept (``isNavComplete``,
@@ -73,7 +73,12 @@ from baobab.nav.navigator_messages import (
     path_from_message,
     path_message,
 )
-from baobab.nav.navigator_robot import NavigatorSetupError, check_free, pose_is_free
+from baobab.nav.navigator_robot import (
+    NavigatorSetupError,
+    check_free,
+    default_start,
+    pose_is_free,
+)
 from baobab.nav.server import NavigationServer
 from baobab.sim.errors import WorldError
 from baobab.sim.viewer import RealTimePacer
@@ -117,7 +122,7 @@ class BasicNavigator(NavigatorExternal):
         except GoalRejectedError as exc:
             raise NavigatorSetupError(str(exc)) from None
         self._live_server()
-        check_free(self._world, pose, self._rig.footprint_radius, what="initial pose")
+        check_free(self._world, pose, self._rig.footprint, what="initial pose")
         self.info("Publishing Initial Pose")
         self._rig.teleport(pose)
         self.initial_pose = copy.deepcopy(initial_pose)
@@ -273,12 +278,14 @@ class BasicNavigator(NavigatorExternal):
         return costmap_message(self._live_server().local_costmap(), self._stamp(), "master")
 
     def changeMap(self, map_filepath: str | FilePath) -> bool:
-        """Switch to another world: a bundled world name or a world YAML path.
+        """Switch to another map: a map_server map YAML (as Nav2's ``load_map`` takes), a
+        world YAML or a bundled world name.
 
         The simulation is rebuilt around the new world with the robot where it stands if
-        that pose is free there, else at the new world's default spawn; a running task is
-        canceled, and sim time goes on from where it was. Returns False (with the task error
-        set to a ``LoadMap`` result code and the reason) when the world cannot be loaded.
+        that pose is free there, else at the new world's default spawn (a map without one:
+        its origin, if free); a running task is canceled, and sim time goes on from where it
+        was. Returns False (with the task error set to a ``LoadMap`` result code and the
+        reason) when the map cannot be loaded or the robot has nowhere free to stand.
         """
         self.info("Changing map...")
         server = self._live_server()
@@ -294,7 +301,15 @@ class BasicNavigator(NavigatorExternal):
             self._set_task_error((int(code), str(exc)))
             return False
         pose = self._rig.base.pose()
-        start = pose if pose_is_free(world, pose, self._rig.footprint_radius) else world.spawn
+        try:
+            footprint = self._rig.footprint
+            start = (
+                pose if pose_is_free(world, pose, footprint) else default_start(world, footprint)
+            )
+        except NavigatorSetupError as exc:
+            self.error(f"Change map request failed: {exc}")
+            self._set_task_error((int(LoadMapResult.RESULT_UNDEFINED_FAILURE), str(exc)))
+            return False
         server.close()  # cancels the running task
         self._time_offset = self._sim_seconds()
         self._rig, self._server = self._build(world, start)

@@ -17,11 +17,18 @@ from pathlib import Path as FilePath
 
 from baobab.nav import msgs
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
-from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot
+from baobab.nav.navigator_robot import (
+    SimulatedRobot,
+    build_simulated_robot,
+    default_start,
+    navigator_robot,
+)
 from baobab.nav.navigator_time import NavigatorWaits
+from baobab.nav.robot_params import navigation_params
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
 from baobab.nav.server import NavigationServer, build_navigation
+from baobab.robots.catalog import RobotInfo
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
 from baobab.sim.world import Pose2D, World, load_world
@@ -52,18 +59,22 @@ class NavigatorCore(Node):
         node_name: the node's name (and its logger's).
         namespace: the node's namespace.
         world: a bundled world name, a world YAML path or a loaded ``World``.
-        robot: the robot model; ``"turtlebot3"`` (a Burger) is the one there is.
-        start: the robot's map-frame start pose; the world's default spawn when None.
+        robot: a bundled mobile robot's name (``baobab list``), a robot file's path, or a
+            registry entry; None: what :func:`~baobab.nav.defaults.navigator_defaults` says
+            (``baobab nav2 --robot``), else the registry's default mobile robot.
+        start: the robot's map-frame start pose; the world's default spawn when None (on a
+            map without one, the map origin: :func:`~baobab.nav.navigator_robot.default_start`).
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
 
-    ``world``, ``start``, ``seed`` and ``realtime`` left at None take the values of
+    ``world``, ``robot``, ``start``, ``seed`` and ``realtime`` left at None take the values of
     :func:`~baobab.nav.defaults.navigator_defaults` (what ``baobab nav2 --world ...`` sets);
     the default start applies only with the default world.
 
     Raises:
         WorldError: the world cannot be loaded (located message).
         NavigatorSetupError: an unknown robot, or a start pose that is not free.
+        RobotFileError: a robot file that cannot be used (located message).
         TypeError: an argument of the wrong type.
     """
 
@@ -73,7 +84,7 @@ class NavigatorCore(Node):
         namespace: str = "",
         *,
         world: str | FilePath | World | None = None,
-        robot: str = "turtlebot3",
+        robot: str | FilePath | RobotInfo | None = None,
         start: Pose2D | None = None,
         seed: int | None = None,
         realtime: bool | None = None,
@@ -86,11 +97,12 @@ class NavigatorCore(Node):
             realtime=defaults.realtime if realtime is None else realtime,
         )
         loaded = world if isinstance(world, World) else load_world(settings.world)
-        self._robot_model = robot
+        self._robot = navigator_robot(defaults.robot if robot is None else robot)
         self._seed = settings.seed
         self._time_offset = 0.0
         self._world = loaded
-        self._rig, self._server = self._build(loaded, settings.start or loaded.spawn)
+        start = settings.start or default_start(loaded, self._robot.mobile_facts.footprint)
+        self._rig, self._server = self._build(loaded, start)
         super().__init__(node_name, namespace=namespace)
         self._sim_clock = Clock(clock_type=ClockType.ROS_TIME, source=self._sim_seconds)
         self._pacer = RealTimePacer() if settings.realtime else None
@@ -107,8 +119,9 @@ class NavigatorCore(Node):
     # -- the simulation -----------------------------------------------------------------------
 
     def _build(self, world: World, start: Pose2D) -> tuple[SimulatedRobot, NavigationServer]:
-        rig = build_simulated_robot(self._robot_model, world, start, self._seed)
-        return rig, build_navigation(rig.sim, rig.base, rig.lidar, world)
+        rig = build_simulated_robot(self._robot, world, start, self._seed)
+        params = navigation_params(self._robot)
+        return rig, build_navigation(rig.sim, rig.base, rig.lidar, world, params=params)
 
     def _sim_seconds(self) -> float:
         return self._time_offset + self._rig.sim.time

@@ -1,4 +1,4 @@
-"""Regulated Pure Pursuit: Nav2's path-following controller, scaled to the TurtleBot3 Burger.
+"""Regulated Pure Pursuit: Nav2's path-following controller, scaled to a robot's limits.
 
 Per control cycle (:meth:`RegulatedPurePursuit.compute_velocity`):
 
@@ -12,14 +12,16 @@ Per control cycle (:meth:`RegulatedPurePursuit.compute_velocity`):
    ``regulated_linear_scaling_min_radius``), by proximity to obstacles (the cost under the
    robot turned back into a distance) and on the approach to the goal, then ``w = v k``.
 4. Project the command ahead up to the carrot (at most
-   ``max_allowed_time_to_collision_up_to_carrot``); a projected collision raises
+   ``max_allowed_time_to_collision_up_to_carrot``), checking the robot's footprint (a polygon
+   at each projected yaw, turns in place too); a projected collision raises
    :class:`~baobab.nav.errors.CollisionAheadError` (Nav2: NO_VALID_CONTROL).
 
 The cycle runs as one compiled call (:mod:`baobab.nav.rpp_kernel`).
 
-Nav2's defaults are kept except where the Burger's limits demand otherwise: 0.22 m/s,
-2.84 rad/s, and ``regulated_linear_scaling_min_speed`` scaled like the top speed (0.25 m/s of
-0.5 m/s becomes 0.11 m/s of 0.22 m/s).
+Nav2's defaults are kept except where the robot's limits demand otherwise
+(:mod:`baobab.robots.tuning`): its top speed and yaw rate, and
+``regulated_linear_scaling_min_speed`` scaled like the top speed (0.25 m/s of 0.5 m/s). Built
+without a robot's, the settings are the registry's default mobile robot's.
 """
 
 from __future__ import annotations
@@ -31,18 +33,22 @@ import numpy as np
 
 from baobab.nav import rpp_kernel as kernel
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import SpeedLimit, applied_speed
 from baobab.nav.errors import CollisionAheadError, FollowPathError, NavigationError
 from baobab.nav.path import Path
+from baobab.robots.catalog import default_mobile_robot
 from baobab.sim.records import record
 from baobab.sim.world import Pose2D
+
+_ROBOT = default_mobile_robot().tuning
 
 
 @dataclass(frozen=True)
 class RegulatedPurePursuitParams:
-    """Controller settings (m, s, rad): Nav2's defaults scaled to the Burger."""
+    """Controller settings (m, s, rad): Nav2's defaults scaled to a robot (the default one)."""
 
-    desired_linear_vel: float = 0.22
-    max_angular_vel: float = 2.84
+    desired_linear_vel: float = _ROBOT.max_linear_speed
+    max_angular_vel: float = _ROBOT.max_angular_speed
     lookahead_dist: float = 0.6
     min_lookahead_dist: float = 0.3
     max_lookahead_dist: float = 0.9
@@ -51,15 +57,15 @@ class RegulatedPurePursuitParams:
     use_interpolation: bool = True
     use_rotate_to_heading: bool = True
     rotate_to_heading_min_angle: float = 0.785
-    rotate_to_heading_angular_vel: float = 1.8
-    max_angular_accel: float = 3.2
+    rotate_to_heading_angular_vel: float = _ROBOT.rotate_to_heading_speed
+    max_angular_accel: float = _ROBOT.max_angular_accel
     use_regulated_linear_velocity_scaling: bool = True
     regulated_linear_scaling_min_radius: float = 0.9
-    regulated_linear_scaling_min_speed: float = 0.11
+    regulated_linear_scaling_min_speed: float = _ROBOT.min_regulated_speed
     use_cost_regulated_linear_velocity_scaling: bool = True
     cost_scaling_dist: float = 0.6
     cost_scaling_gain: float = 1.0
-    inflation_cost_scaling_factor: float = 3.0
+    inflation_cost_scaling_factor: float = _ROBOT.cost_scaling_factor
     min_approach_linear_velocity: float = 0.05
     approach_velocity_scaling_dist: float = 0.6
     use_collision_detection: bool = True
@@ -68,13 +74,20 @@ class RegulatedPurePursuitParams:
     controller_frequency: float = 20.0
     max_robot_pose_search_dist: float | None = None
 
-    def pack(self) -> np.ndarray:
-        """These settings as the kernel's :data:`~baobab.nav.rpp_kernel.RPP_SETTINGS` record.
+    def pack(self, desired_linear_vel: float | None = None) -> np.ndarray:
+        """These settings as the kernel's :data:`~baobab.nav.rpp_kernel.RPP_SETTINGS` record,
+        with ``desired_linear_vel`` (m/s) replaced when given (a speed limit in force).
 
         ``max_robot_pose_search_dist`` None or 0 means the costmap's half extent (NaN there).
         """
         search = self.max_robot_pose_search_dist or math.nan
-        return record(kernel.RPP_SETTINGS, self, max_robot_pose_search_dist=search)
+        speed = self.desired_linear_vel if desired_linear_vel is None else desired_linear_vel
+        return record(
+            kernel.RPP_SETTINGS,
+            self,
+            max_robot_pose_search_dist=search,
+            desired_linear_vel=speed,
+        )
 
 
 class RegulatedPurePursuit:
@@ -95,6 +108,12 @@ class RegulatedPurePursuit:
         self._along = np.zeros(1)
         self.closest_index = 0
         self.last_carrot: tuple[float, float] | None = None
+
+    def set_speed_limit(self, limit: SpeedLimit | None) -> None:
+        """Nav2's ``setSpeedLimit``: the top speed becomes ``desired_linear_vel`` limited by
+        ``limit`` (a percentage of it, or m/s; None or 0 restores it)."""
+        speed = applied_speed(limit, self.params.desired_linear_vel)
+        self._settings = self.params.pack(desired_linear_vel=speed)
 
     def reset(self) -> None:
         """Forget the current path and its pruning."""
@@ -134,8 +153,7 @@ class RegulatedPurePursuit:
             self.closest_index,
             (x, y, pose.yaw),
             velocity,
-            costmap.data,
-            costmap.pack(),
+            costmap.arrays(),
             self._settings,
         )
         self.closest_index = step.closest

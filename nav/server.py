@@ -46,6 +46,7 @@ from baobab.nav.behaviors import (
 )
 from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import KeepoutParams, keepout_filter, speed_filter
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
@@ -66,7 +67,8 @@ from baobab.sim.world import Pose2D, World
 
 @dataclass(frozen=True)
 class NavigationParams:
-    """Every navigation setting; Nav2's defaults with the TurtleBot3 Burger's figures."""
+    """Every navigation setting: Nav2's defaults with a robot's figures
+    (:func:`~baobab.nav.robot_params.navigation_params`; the default robot's when built bare)."""
 
     global_costmap: CostmapParams = field(default_factory=CostmapParams)
     local_costmap: CostmapParams = field(default_factory=CostmapParams)
@@ -79,6 +81,7 @@ class NavigationParams:
     behaviors: BehaviorParams = field(default_factory=BehaviorParams)
     navigator: NavigatorParams = field(default_factory=NavigatorParams)
     waypoint_loop_rate: float = 20.0
+    keepout: KeepoutParams = field(default_factory=KeepoutParams)
 
 
 class NavigationServer:
@@ -90,7 +93,8 @@ class NavigationServer:
         world: the world whose static geometry makes the static costmap layer.
         lidar: where scans come from (``subscribe``/``unsubscribe``); None leaves the
             obstacle layers empty.
-        params: settings; Nav2's defaults for the Burger when omitted.
+        params: settings; Nav2's defaults for the registry's default robot when omitted
+            (:func:`~baobab.nav.robot_params.navigation_params` makes a robot's).
     """
 
     def __init__(
@@ -106,16 +110,28 @@ class NavigationServer:
         self.sim = sim
         self.base = base
         self.world = world
-        static = StaticLayer(world, p.global_costmap.resolution)
+        static = StaticLayer(world, p.global_costmap.resolution, params=p.global_costmap.static)
         local_static = (
             static
             if p.local_costmap.resolution == p.global_costmap.resolution
-            else StaticLayer(world, p.local_costmap.resolution)
+            and p.local_costmap.static == p.global_costmap.static
+            else StaticLayer(world, p.local_costmap.resolution, params=p.local_costmap.static)
         )
-        self.global_layers = LayeredCostmap.global_costmap(world, p.global_costmap, static)
+        self.global_layers = LayeredCostmap.global_costmap(
+            world,
+            p.global_costmap,
+            static,
+            keepout_filter(world, static, p.global_costmap.inflation, p.keepout),
+        )
         self.local_layers = LayeredCostmap.local_costmap(
-            world, base.pose(), p.local_costmap, p.local_costmap_size, local_static
+            world,
+            base.pose(),
+            p.local_costmap,
+            p.local_costmap_size,
+            local_static,
+            keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout),
         )
+        self.speed_filter = speed_filter(world)
         self.planner = GlobalPlanner(p.planner, p.smoother)
         self.through_poses = ThroughPosesPlanner(self.planner)
         self.smoother = p.smoother
@@ -362,9 +378,10 @@ class NavigationServer:
             raise NavigationError(SmoothPathError.INVALID_PATH, "the path has no poses")
         costmap = self.global_layers.costmap
         smoothed = self.smoother.smooth(path, costmap).path
+        xy = smoothed.xy
         if (
             check_for_collisions
-            and collision_mask(costmap, smoothed.xy[:, 0], smoothed.xy[:, 1]).any()
+            and collision_mask(costmap, xy[:, 0], xy[:, 1], yaws=smoothed.yaws).any()
         ):
             raise NavigationError(
                 SmoothPathError.SMOOTHED_PATH_IN_COLLISION, "the smoothed path collides"
@@ -430,6 +447,11 @@ class NavigationServer:
 
     def _update_local(self, _now: float) -> None:
         self.costmap_updates.update_local()
+        if self.speed_filter is not None:
+            pose = self.base.pose()
+            limit = self.speed_filter.update(pose.x, pose.y)
+            if limit is not None:
+                self.follower.set_speed_limit(limit)
 
     def _update_global(self, _now: float) -> None:
         self.costmap_updates.update_global()
@@ -471,9 +493,10 @@ def build_navigation(
 
     Args:
         sim: the simulation the robot lives in.
-        robot_base: the robot's base, e.g. a TurtleBot3's ``DiffDriveBase``.
-        lidar: its scanner, e.g. the TurtleBot3's ``Lidar``, or None.
+        robot_base: the robot's base, e.g. a mobile robot's ``DiffDriveBase``.
+        lidar: its scanner, e.g. the robot's ``Lidar``, or None.
         world: the world the simulation was built from.
-        params: navigation settings (defaults: Nav2's, for the Burger).
+        params: navigation settings (:func:`~baobab.nav.robot_params.navigation_params`;
+            the default robot's when omitted).
     """
     return NavigationServer(sim, robot_base, world, lidar=lidar, params=params)

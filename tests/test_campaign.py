@@ -190,6 +190,7 @@ def test_variations_of_start_noise_and_events_make_the_run_mission(tmp_path: Pat
     keys = set(variable_keys(mission))
     assert keys == {
         "goal",
+        "robot",
         "start.x",
         "start.y",
         "start.yaw",

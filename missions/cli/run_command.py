@@ -35,7 +35,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from baobab.missions.cli.arguments import add_set, port, positive_int, video_size
+from baobab.missions.cli.arguments import add_robot, add_set, port, positive_int, video_size
 from baobab.missions.cli.interrupts import RunSignals
 from baobab.missions.cli.run_job import (
     FinishedRun,
@@ -56,6 +56,7 @@ from baobab.missions.run.recording_hook import (
     DEFAULT_VIDEO_SIZE,
     RecordingOptions,
 )
+from baobab.robots.catalog import RobotInfo
 from baobab.sim.errors import BaobabError
 
 if TYPE_CHECKING:
@@ -64,22 +65,16 @@ if TYPE_CHECKING:
     from baobab.missions.testing.baseline import Baseline
 
 
-_ROBOT_KERNELS = {
-    "turtlebot3": ("baobab.robots.turtlebot3.base_kernel", "base_kernel"),
-    "panda": ("baobab.robots.panda.native_loop", "_arm_kernel"),
-}
-"""Per robot, the module and function of the compiled kernel its runs need first."""
-
-
-def kernels_cached(robot: str) -> bool:
-    """Whether numba's disk cache holds ``robot``'s kernel (if not, this run compiles them).
+def kernels_cached(robot: RobotInfo) -> bool:
+    """Whether numba's disk cache holds the kernel ``robot``'s runs need first (its registry
+    entry's ``kernel``; if not, this run compiles them).
 
     numba keeps an index file ``<module>.<function>-<line>.py<version>.nbi`` per cached
     function, in ``__pycache__`` beside the module or under ``NUMBA_CACHE_DIR``.
     """
-    if robot not in _ROBOT_KERNELS:
+    if robot.kernel is None:
         return True
-    module, function = _ROBOT_KERNELS[robot]
+    module, function = robot.kernel
     spec = importlib.util.find_spec(module)
     if spec is None or spec.origin is None:
         return True
@@ -96,6 +91,13 @@ def configure_run(parser: argparse.ArgumentParser) -> None:
         "mission", metavar="MISSION", help="a mission file, or the name of a bundled mission"
     )
     add_set(parser)
+    add_robot(parser, "the mission's robot (where the mission fits it)")
+    parser.add_argument(
+        "--world",
+        metavar="PATH",
+        help="run in this world instead of the mission's: a bundled name, a world YAML file "
+        "or a map_server map YAML (a map has no spawn: the mission needs a start)",
+    )
     parser.add_argument("--seed", type=int, help="override the mission's seed")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
     parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
@@ -181,7 +183,9 @@ def _checked_run(
     child: StartedChild | None,
 ) -> int:
     """Load and check the mission, the baseline and the run folder; then run and report."""
-    mission = load_mission(resolve_mission(args.mission), overrides)
+    mission = load_mission(
+        resolve_mission(args.mission), overrides, robot=args.robot, world=args.world
+    )
     baseline = None
     if args.baseline and not args.baseline.exists():  # made after the run: must be writable
         check_output_file("--baseline", args.baseline, create_folders=True)
@@ -255,13 +259,13 @@ def _run_and_save(
         progress.schedule,
     )
     try:
-        if not kernels_cached(mission.robot.name):
+        if not kernels_cached(mission.robot):
             sys.stderr.write(
                 "first run on this machine: compiling baobab's kernels "
                 "(about a minute; later runs load them from the cache)\n"
             )
         if not args.json:
-            progress.phase(_starting(mission.robot.name))
+            progress.phase(_starting(mission.robot))
         show = shower(progress)
         try:
             if child is not None:
@@ -293,7 +297,7 @@ def _load_plotting() -> None:
     load_plotting()
 
 
-def _starting(robot: str) -> str:
+def _starting(robot: RobotInfo) -> str:
     """What the live display says until the run's first tick."""
     if kernels_cached(robot):
         return "starting: loading MuJoCo, the world, the robot and its compiled kernels..."

@@ -1,18 +1,23 @@
 """What a recording of a run holds: the sim callbacks that log a robot's topics.
 
 Every callback only reads the simulation, so a recorded run is the same run (same trace
-digest) as an unrecorded one. Rates (sim time), following the topics Nav2 and the Franka
-impedance controller publish:
+digest) as an unrecorded one. Rates (sim time), following the topics Nav2 and the Cartesian
+impedance controllers of ROS arms publish:
 
-- TurtleBot3: ``/tf`` (map -> odom -> base_link), ``/robot_pose`` and the followed-path trail
+- a mobile robot: ``/tf`` (map -> odom -> base_link), ``/robot_pose`` and the followed-path trail
   at 20 Hz, each new navigation plan on ``/plan`` (looked at 20 Hz), every scan on ``/scan``
-  (the lidar's 5 Hz), the robot's geoms on ``/robot/scene`` at 5 Hz, and at 1 Hz the global
+  (the lidar's rate), the robot's geoms and its footprint (the outline the navigation stack
+  checks, in ``base_link``) on ``/robot/scene`` at 5 Hz, and at 1 Hz the global
   costmap, ``/followed_path`` and the world scene (obstacles, spawned obstacles, named
-  locations; republished so that a live client that joins late sees it).
-- Panda: the three ``/cartesian_impedance/*`` poses (TCP, set-point, filtered reference, in
-  ``panda/link0``) and ``/joint_states`` at 100 Hz, the scene (arm, table, cube) at 20 Hz,
-  and the transform world -> panda/link0 on ``/tf_static`` at 1 Hz: latched for live viewers
-  that join late, and never more than a second away for a viewer that opens the file anywhere.
+  locations; republished so that a live client that joins late sees it). On a map: ``/map``
+  and the filter masks (``/keepout_filter_mask``, ``/speed_filter_mask``) as Grids of their
+  occupancy values (int8, -1 unknown) at the start and every :data:`MAP_PERIOD`, latched;
+  each new speed limit on ``/speed_limit`` (looked at 20 Hz).
+- an arm: the three ``/cartesian_impedance/*`` poses (TCP, set-point, filtered reference, in
+  the arm's base frame) and ``/joint_states`` at 100 Hz, the scene (arm, table, objects) at
+  20 Hz, and the transform world -> base frame on ``/tf_static`` at 1 Hz: latched for live
+  viewers that join late, and never more than a second away for a viewer that opens the file
+  anywhere.
 
 ``/tf`` is what a perfectly localised Nav2 robot publishes: odom -> base_link is the wheel
 odometry, drift included, and map -> odom corrects it (ground truth composed with the inverse
@@ -30,12 +35,11 @@ import math
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from baobab.missions.run.recording_topics import Topics
+from baobab.missions.run.recording_topics import SPEED_LIMIT_SCHEMA, Topics
 from baobab.missions.run.rig import ArmRig, MobileRig
-from baobab.robots.turtlebot3.model import BURGER
 from baobab.sim.lidar import LaserScan
 from baobab.sim.recording import Recorder, Trail, Transform
-from baobab.sim.scene_primitives import GeomScene, location_entities
+from baobab.sim.scene_primitives import Entity, GeomScene, Outline, location_entities
 from baobab.sim.simulation import PeriodicHandle
 from baobab.sim.world import Pose2D
 
@@ -44,11 +48,16 @@ MOBILE_FAST_PERIOD = 0.05
 ROBOT_SCENE_PERIOD = 0.2
 """/robot/scene (s): 5 Hz."""
 SLOW_PERIOD = 1.0
-"""Costmap, followed path, world scene, the Panda's base transform (s): 1 Hz."""
+"""Costmap, followed path, world scene, the arm's base transform (s): 1 Hz."""
+MAP_PERIOD = 10.0
+"""The map and the filter masks (s): they do not change, and a big map is megabytes."""
 ARM_STATE_PERIOD = 0.01
 """Impedance poses and joint states (s): 100 Hz."""
 ARM_SCENE_PERIOD = 0.05
-"""The Panda scene (s): 20 Hz."""
+"""The arm's scene (s): 20 Hz."""
+FOOTPRINT_HEIGHT = 0.005
+"""m above the floor the footprint's outline is drawn at."""
+FOOTPRINT_COLOUR = (0.95, 0.55, 0.10, 1.0)
 WORLD_SCENE_GROUPS = (1, 2)
 """Static and movable obstacles."""
 ROBOT_SCENE_GROUPS = (3,)
@@ -68,7 +77,7 @@ class Streams:
 
 
 class MobileStreams(Streams):
-    """Logs a TurtleBot3 run (see the module docstring).
+    """Logs a mobile robot's run (see the module docstring).
 
     Args:
         recorder: where the messages go.
@@ -86,12 +95,30 @@ class MobileStreams(Streams):
         self._world_scene = GeomScene(model, groups=WORLD_SCENE_GROUPS)
         self._robot_scene = GeomScene(model, groups=ROBOT_SCENE_GROUPS)
         self._locations = {name: rig.mission.locations[name].pose2d() for name in rig.locations}
+        footprint = rig.info.tuning.footprint  # Nav2's published_footprint: padded
+        outline = tuple((x, y, FOOTPRINT_HEIGHT) for x, y in footprint.outline)
+        self._footprint = Entity(
+            "footprint", "base_link", outlines=(Outline(outline, FOOTPRINT_COLOUR),)
+        )
         sim = rig.sim
+        self._speed_limit: object = None
         self._handles = [
             sim.every(MOBILE_FAST_PERIOD, self._fast, name="record pose"),
             sim.every(ROBOT_SCENE_PERIOD, self._robot, name="record robot scene"),
             sim.every(SLOW_PERIOD, self._slow, name="record map"),
         ]
+        masks = rig.world.masks
+        self._grids = [
+            (topic, grid)
+            for topic, grid in (
+                (Topics.MAP, masks.grid),
+                (Topics.KEEPOUT_MASK, masks.keepout),
+                (Topics.SPEED_MASK, masks.speed),
+            )
+            if grid is not None
+        ]
+        if self._grids:
+            self._handles.append(sim.every(MAP_PERIOD, self._maps, name="record map files"))
         rig.robot.lidar.subscribe(self._scan)
 
     def close(self) -> None:
@@ -100,7 +127,7 @@ class MobileStreams(Streams):
         self.rig.robot.lidar.unsubscribe(self._scan)
 
     def _scan(self, scan: LaserScan) -> None:
-        self.recorder.log_scan(Topics.SCAN, scan, z=BURGER.lidar_height)
+        self.recorder.log_scan(Topics.SCAN, scan, z=self.rig.robot.facts.lidar.z)
 
     def _fast(self, t: float) -> None:
         base, recorder = self.base, self.recorder
@@ -121,10 +148,34 @@ class MobileStreams(Streams):
             self._plan = path
             poses = np.empty((0, 3)) if path is None else path.poses
             recorder.log_path(Topics.PLAN, t, poses)
+        self._log_speed_limit(t)
+
+    def _maps(self, t: float) -> None:
+        for topic, grid in self._grids:
+            self.recorder.log_grid(
+                topic,
+                t,
+                grid.data,
+                resolution=grid.resolution,
+                origin=grid.origin,
+                field="occupancy",
+                latched=True,
+            )
+
+    def _log_speed_limit(self, t: float) -> None:
+        navigation = self.rig.navigation
+        speed_filter = None if navigation is None else navigation.speed_filter
+        limit = None if speed_filter is None else speed_filter.current
+        if limit is None or limit is self._speed_limit:
+            return
+        self._speed_limit = limit
+        payload = {"percentage": limit.percentage, "speed_limit": limit.speed_limit}
+        self.recorder.log_json(Topics.SPEED_LIMIT, t, payload, schema=SPEED_LIMIT_SCHEMA)
 
     def _robot(self, t: float) -> None:
         data = self.rig.sim.data
-        self.recorder.log_scene(Topics.ROBOT_SCENE, t, self._robot_scene.entities(data))
+        entities = [*self._robot_scene.entities(data), self._footprint]
+        self.recorder.log_scene(Topics.ROBOT_SCENE, t, entities)
 
     def _slow(self, t: float) -> None:
         recorder = self.recorder
@@ -145,24 +196,21 @@ class MobileStreams(Streams):
 
 
 class ArmStreams(Streams):
-    """Logs a Panda run (see the module docstring).
+    """Logs an arm's run (see the module docstring).
 
     Args:
         recorder: where the messages go.
-        rig: the arm rig (sim and arm server).
+        rig: the arm rig (sim, arm server and the runtime that names its frames and joints).
     """
 
     def __init__(self, recorder: Recorder, rig: ArmRig) -> None:
-        from baobab.robots.panda.model import ARM_JOINTS, BASE_BODY, FINGER_JOINTS
-
         super().__init__()
         self.recorder = recorder
         self.server = rig.server
         sim = rig.sim
         self._data = sim.data
-        prefix = self.server.prefix
-        self.base_frame = prefix + BASE_BODY
-        self.joint_names = [prefix + name for name in (*ARM_JOINTS, *FINGER_JOINTS)]
+        self.base_frame = rig.runtime.BASE_FRAME
+        self.joint_names = list(rig.runtime.JOINT_NAMES)
         self._joints = [sim.data.joint(name) for name in self.joint_names]
         self._scene = GeomScene(sim.model, frame_id="world")
         self._base = Transform(

@@ -16,16 +16,11 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from baobab.robots.turtlebot3.base_kernel import LOOP_WORDS, WORD, base_loops
-from baobab.robots.turtlebot3.clearance_bounds import ClearanceBounds
-from baobab.robots.turtlebot3.model import (
-    BURGER,
-    DEFAULT_PREFIX,
-    OBSTACLE_GROUPS,
-    BurgerFacts,
-    TurtleBot3Names,
-)
-from baobab.sim.builder import FLOOR_GROUP
+from baobab.robots.diff_drive.base_kernel import LOOP_WORDS, WORD, base_loops
+from baobab.robots.diff_drive.clearance_bounds import ClearanceBounds
+from baobab.robots.diff_drive.facts import DiffDriveFacts
+from baobab.robots.diff_drive.names import OBSTACLE_GROUPS, DiffDriveNames
+from baobab.sim.builder import FLOOR_GROUP, MAP_WALL_MATERIAL
 from baobab.sim.errors import SimulationError
 from baobab.sim.simulation import Simulation
 from baobab.sim.world import Pose2D
@@ -54,10 +49,10 @@ def clamp(value: float, low: float, high: float) -> float:
 
 
 class DiffDriveBase:
-    """The TurtleBot3 base: a ``cmd_vel`` interface over the two wheel velocity actuators.
+    """A differential-drive base: a ``cmd_vel`` interface over the two wheel velocity actuators.
 
     Args:
-        sim: the simulation holding a Burger attached with ``prefix``.
+        sim: the simulation holding the robot attached with ``prefix``.
         prefix: name prefix of the robot's MuJoCo elements.
         facts: the robot's figures (speed and acceleration limits, wheel geometry).
         period: control period (s); a multiple of the physics step.
@@ -67,13 +62,13 @@ class DiffDriveBase:
         self,
         sim: Simulation,
         *,
-        prefix: str = DEFAULT_PREFIX,
-        facts: BurgerFacts = BURGER,
+        prefix: str,
+        facts: DiffDriveFacts,
         period: float = BASE_CONTROL_PERIOD,
     ) -> None:
         self._sim = sim
         self.facts = facts
-        self.names = TurtleBot3Names(prefix)
+        self.names = DiffDriveNames(prefix)
         self.period = period
         model, data = sim.model, sim.data
         self._root = data.joint(self.names.root_joint)
@@ -274,11 +269,12 @@ class DiffDriveBase:
         return sorted({model.geom(int(geom)).name for geom in other})
 
     def min_clearance(self, max_distance: float = 2.0) -> float:
-        """Distance (m) from the footprint circle to the nearest obstacle geom.
+        """Distance (m) from the footprint to the nearest obstacle geom.
 
         Obstacles are the static and movable geoms; the footprint is the upright cylinder of
-        radius ``facts.footprint_radius`` around ``base_link``. Negative when an obstacle
-        reaches inside the footprint; ``inf`` when nothing is within ``max_distance``.
+        the footprint's radius around ``base_link``, or the prism of its polygon. Negative when
+        an obstacle reaches inside the footprint; ``inf`` when nothing is within
+        ``max_distance``.
         """
         return self._clearance_bounds.min_clearance(max_distance)
 
@@ -295,24 +291,11 @@ class DiffDriveBase:
 
         Raises:
             SimulationError: if a period is not a positive multiple of the physics step, or
-                the model lacks the robot's contact sensors (:func:`.model.attach_turtlebot3`).
+                the model lacks the robot's contact sensors (:func:`.model.attach_robot`).
         """
         sim, model, loop = self._sim, self._sim.model, self._loop
-        obstacles = [
-            model.geom(index).name
-            for index in range(model.ngeom)
-            if model.geom_group[index] in OBSTACLE_GROUPS
-        ]
-        addresses = []
-        for name in obstacles:
-            try:
-                addresses.append(int(model.sensor(self.names.touch_sensor(name)).adr[0]))
-            except KeyError:
-                raise SimulationError(f"the model has no contact sensor for '{name}'") from None
-        first = addresses[0] if addresses else 0
-        if addresses != list(range(first, first + len(addresses))):
-            raise SimulationError("the robot's contact sensors are not consecutive")
-        touched = np.zeros(len(obstacles))
+        first, obstacles, on_world_body, map_sensor = self._contact_sensors(model)
+        touched = np.zeros(len(obstacles) + (map_sensor >= 0))
         pose_steps = sim.steps_for(pose_period, what="pose sampling period")
         contact_steps = sim.steps_for(contact_period, what="contact sampling period")
         if pose_steps <= 0 or contact_steps <= 0:
@@ -320,14 +303,47 @@ class DiffDriveBase:
         capacity = 2 * (sim.steps_for(drain_period, what="drain period") // pose_steps + 2)
         poses = np.zeros((capacity, 3))
         loop["contact_sensor"], loop["contact_sensors"] = first, len(obstacles)
+        loop["contact_world_sensors"], loop["contact_map_sensor"] = on_world_body, map_sensor
         loop["contact_address"] = touched.ctypes.data
         loop["contact_samples"] = 0
         loop["pose_capacity"], loop["pose_address"] = capacity, poses.ctypes.data
         loop["pose_count"] = loop["pose_overflow"] = 0
         loop["pose_next_step"] = loop["contact_next_step"] = sim.step_count
         loop["pose_period_steps"], loop["contact_period_steps"] = pose_steps, contact_steps
-        self._probe = BaseProbe(loop, obstacles, touched, poses)
+        names = obstacles + [MAP_WALL_MATERIAL] if map_sensor >= 0 else obstacles
+        self._probe = BaseProbe(loop, names, touched, poses)
         return self._probe
+
+    def _contact_sensors(self, model: mujoco.MjModel) -> tuple[int, list[str], int, int]:
+        """The sensordata address of the first contact sensor, the obstacle geoms with a
+        sensor each (in model order: the world body's first), how many of them are the world
+        body's, and the address of the map's two sensors (-1 without a map); see
+        :func:`.model.attach_robot`.
+
+        Raises:
+            SimulationError: a sensor is missing or the sensors are not consecutive.
+        """
+        walls = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_MATERIAL, MAP_WALL_MATERIAL)
+        wanted = np.isin(model.geom_group, OBSTACLE_GROUPS)
+        if walls >= 0:
+            wanted &= model.geom_matid != walls
+        geoms = np.flatnonzero(wanted)
+        obstacles = [model.geom(int(index)).name for index in geoms]
+        sensors = [self.names.touch_sensor(name) for name in obstacles]
+        if walls >= 0:
+            sensors += list(self.names.map_contact_sensors)
+        try:
+            addresses = [int(model.sensor(name).adr[0]) for name in sensors]
+        except KeyError as exc:
+            raise SimulationError(f"the model has no contact sensor {exc}") from None
+        first = addresses[0] if addresses else 0
+        if addresses != list(range(first, first + len(addresses))):
+            raise SimulationError("the robot's contact sensors are not consecutive")
+        on_world_body = int((model.geom_bodyid[geoms] == 0).sum())
+        if not (model.geom_bodyid[geoms[:on_world_body]] == 0).all():
+            raise SimulationError("the world body's obstacles do not come first")
+        map_sensor = addresses[-2] if walls >= 0 else -1
+        return first, obstacles, on_world_body, map_sensor
 
 
 class BaseProbe:
