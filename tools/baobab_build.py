@@ -74,7 +74,10 @@ class BuildPyWithKernels(build_py):
 
 def precompile_kernels(build_lib: Path) -> None:
     """Run the bundled missions on the modules in ``build_lib``; warn and go on if it fails."""
-    env = dict(os.environ, PYTHONPATH=str(build_lib), PYTHONDONTWRITEBYTECODE="1")
+    # The built modules first; then what was on the path: pip's isolated build environment
+    # reaches its packages (the run's dependencies) through PYTHONPATH.
+    path = [str(build_lib), *filter(None, [os.environ.get("PYTHONPATH")])]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(path), PYTHONDONTWRITEBYTECODE="1")
     env.setdefault("MUJOCO_GL", "egl")
     for variable in ("NUMBA_CACHE_DIR", "NUMBA_DISABLE_JIT", "PYTHONPYCACHEPREFIX"):
         env.pop(variable, None)
