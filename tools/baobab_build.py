@@ -34,9 +34,10 @@ PRECOMPILE_REQUIRES = [
     "scipy>=1.11",
     "numba>=0.61",
     "ruckig>=0.12",
+    "pillow>=10.1",
 ]
 """What running the bundled missions loads (pyproject.toml's run dependencies but the
-plotting, recording and terminal ones)."""
+plotting, recording and terminal ones; Pillow reads a map world's image)."""
 
 
 def precompiling() -> bool:
