@@ -21,6 +21,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -103,18 +104,32 @@ def run_process(
     return wall, result, done.stderr
 
 
+def children_cpu() -> float:
+    """CPU seconds (user + system) of this process's ended and reaped children so far."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def whole_figures(repeats: int = 5) -> list[Figure]:
-    """``baobab run walls_go_to_goal``, whole process, warm, against ``import mujoco``."""
+    """``baobab run walls_go_to_goal``, whole process, warm, against ``import mujoco``: wall
+    seconds, and CPU seconds of the process and its run's process (which a loaded machine
+    inflates far less than the wall time)."""
     whole: list[float] = []
     bare: list[float] = []
+    whole_cpu: list[float] = []
+    bare_cpu: list[float] = []
     with tempfile.TemporaryDirectory() as out:
         env = compiled_env(f"{out}/pycache")
         for index in range(repeats + 1):  # the first round warms the bytecode cache
+            before = children_cpu()
             mujoco = timed_process([sys.executable, "-c", "import mujoco"], env)
+            between = children_cpu()
             wall, result, _ = run_process("walls_go_to_goal", Path(out) / str(index), env)
             if index and result is not None:
                 whole.append(wall)
                 bare.append(mujoco)
+                bare_cpu.append(between - before)
+                whole_cpu.append(children_cpu() - between)
     command = "baobab run walls_go_to_goal (whole process, warm)"
     if not whole:
         return [
@@ -153,6 +168,22 @@ def whole_figures(repeats: int = 5) -> list[Figure]:
             0.5,
             False,
             command,
+        ),
+        Figure(
+            "CPU of baobab run walls_go_to_goal, both processes (median)",
+            statistics.median(whole_cpu),
+            "s",
+            None,
+            False,
+            command,
+        ),
+        Figure(
+            "CPU of python -c 'import mujoco' (median)",
+            statistics.median(bare_cpu),
+            "s",
+            None,
+            False,
+            "python -c 'import mujoco'",
         ),
     ]
 
@@ -215,60 +246,69 @@ def mission_process_figures(missions: list[str]) -> list[Figure]:
     return figures
 
 
+def _suite_session(out: Path, name: str, env: dict[str, str]) -> tuple[float, list[dict], str]:
+    """One ``pytest missions/ -n 2`` session with its cache in ``out``: (wall s, the runs'
+    results, the last line when it failed else "")."""
+    runs = out / name
+    command = [sys.executable, "-m", "pytest", "missions/", "-n", "2", "-q"]
+    options = ["-p", "no:hypothesispytest", "-o", f"cache_dir={out / 'cache'}"]
+    began = time.perf_counter()
+    done = subprocess.run(
+        [*command, *options, "--baobab-runs", str(runs)],
+        cwd=REPO,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    wall = time.perf_counter() - began
+    results = [json.loads(path.read_text()) for path in runs.glob("*/result.json")]
+    failed = "" if done.returncode == 0 else (done.stdout.strip().splitlines() or ["?"])[-1]
+    return wall, results, failed
+
+
 def suite_figures() -> list[Figure]:
-    """``pytest missions/ -n 2``: sim seconds of the suite per wall second."""
-    with tempfile.TemporaryDirectory() as out:
-        runs = Path(out) / "runs"
+    """``pytest missions/ -n 2``: sim seconds of the suite per wall second, twice: a first
+    session (no cache: the files' order) and a second one (the workers take the scenarios
+    longest first, by the loop times the first one kept in pytest's cache)."""
+    figures: list[Figure] = []
+    with tempfile.TemporaryDirectory() as folder:
+        out = Path(folder)
         env = compiled_env(f"{out}/pycache")
-        command = [
-            sys.executable,
-            "-m",
-            "pytest",
-            "missions/",
-            "-n",
-            "2",
-            "-q",
-            "-p",
-            "no:cacheprovider",
-            "--baobab-runs",
-            str(runs),
-        ]
         subprocess.run(
-            [*command[:4], "--collect-only", "-q"],
+            [sys.executable, "-m", "pytest", "missions/", "--collect-only", "-q"],
             cwd=REPO,
             env=env,
             capture_output=True,
             check=False,
         )  # warm the bytecode cache
-        began = time.perf_counter()
-        done = subprocess.run(
-            command, cwd=REPO, env=env, capture_output=True, text=True, check=False
-        )
-        wall = time.perf_counter() - began
-        results = [json.loads(path.read_text()) for path in runs.glob("*/result.json")]
-    sim = sum(float(result["sim_time"]) for result in results)
-    loops = sum(float(result["wall_time"]) for result in results)
-    failed = None if done.returncode == 0 else (done.stdout.strip().splitlines() or ["?"])[-1]
-    return [
-        Figure(
-            f"pytest missions/ -n 2: sim time of {len(results)} missions / wall",
-            sim / wall,
-            "x",
-            200.0,
-            True,
-            "pytest missions/ -n 2",
-            failed=failed,
-        ),
-        Figure("pytest missions/ -n 2: wall", wall, "s", None, False, "pytest missions/ -n 2"),
-        Figure(
-            "pytest missions/ -n 2: wall / (sum of the missions' loops / 2 workers)",
-            wall / (loops / 2) if loops else math.nan,
-            "ratio",
-            None,
-            False,
-            "pytest missions/ -n 2 (loops: each run's wall_time)",
-        ),
-    ]
+        for session in ("first session", "second session, longest first"):
+            wall, results, failed = _suite_session(out, session.split(",")[0], env)
+            sim = sum(float(result["sim_time"]) for result in results)
+            loops = sum(float(result["wall_time"]) for result in results)
+            command = "pytest missions/ -n 2"
+            figures += [
+                Figure(
+                    f"pytest missions/ -n 2 ({session}): sim time of {len(results)} "
+                    "missions / wall",
+                    sim / wall,
+                    "x",
+                    200.0,
+                    True,
+                    command,
+                    failed=failed or None,
+                ),
+                Figure(f"pytest missions/ -n 2 ({session}): wall", wall, "s", None, False, command),
+                Figure(
+                    f"pytest missions/ -n 2 ({session}): wall / (sum of loops / 2 workers)",
+                    wall / (loops / 2) if loops else math.nan,
+                    "ratio",
+                    None,
+                    False,
+                    f"{command} (loops: each run's wall_time)",
+                ),
+            ]
+    return figures
 
 
 def _fresh_install(folder: Path, extra: str, env: dict[str, str]) -> tuple[str, float, Path]:

@@ -73,6 +73,7 @@ def test_the_build_step_runs_both_groups_on_the_built_modules(
     started: list[tuple[list[str], dict[str, Any]]] = []
     monkeypatch.setattr(backend.subprocess, "Popen", _Process(code, started))
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "elsewhere"))
+    monkeypatch.setenv("PYTHONPATH", "/pip-build-env/site")  # how pip's isolation finds packages
     backend.precompile_kernels(tmp_path)
     assert [args[-2:] for args, _ in started] == [
         ["baobab.missions.run.kernel_warmup", "--mobile"],
@@ -80,7 +81,8 @@ def test_the_build_step_runs_both_groups_on_the_built_modules(
     ]
     for _, options in started:
         # The modules being packaged, and numba's cache beside them (the wheel's).
-        assert options["cwd"] == tmp_path and options["env"]["PYTHONPATH"] == str(tmp_path)
+        assert options["cwd"] == tmp_path
+        assert options["env"]["PYTHONPATH"] == f"{tmp_path}:/pip-build-env/site"
         assert "NUMBA_CACHE_DIR" not in options["env"]
     warning = capsys.readouterr().err
     assert ("first run compiles them" in warning) is (code != 0)  # the build goes on

@@ -14,6 +14,8 @@ import subprocess
 import xml.etree.ElementTree as ET
 from importlib import resources
 from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
 
 # matplotlib, numpy's extension modules and baobab.missions.testing.scenario are imported before any
 # inline pytest run: pytester drops the modules an inline run imports when it ends, numpy's
@@ -31,7 +33,13 @@ import pytest
 import xmlschema
 
 import baobab.missions.testing.scenario  # noqa: F401
-from baobab.missions.testing.pytest_plugin import is_scenario_file
+from baobab.missions.testing.pytest_plugin import (
+    MissionItem,
+    duration_key,
+    is_scenario_file,
+    longest_first,
+    pytest_collection_modifyitems,
+)
 
 pytest_plugins = ["pytester"]
 
@@ -272,3 +280,44 @@ def test_the_cheap_check_wants_top_level_mission_and_expect_keys(tmp_path: Path)
         (tmp_path / name).write_text(text)
     found = {name for name in cases if is_scenario_file(tmp_path / name)}
     assert found == {"both.yaml", "quoted.yml"}
+
+
+def test_each_scenario_keeps_its_loop_time_in_pytests_cache(pytester: pytest.Pytester) -> None:
+    _copy(pytester, "walls_go_to_goal")
+    pytester.runpytest("-p", "no:hypothesispytest", "-p", "no:xdist").assert_outcomes(passed=1)
+    key = duration_key("walls_go_to_goal.yaml::walls_go_to_goal")
+    seconds = json.loads((pytester.path / ".pytest_cache" / "v" / key).read_text())
+    assert isinstance(seconds, float) and seconds > 0
+
+
+def _item(nodeid: str) -> Any:
+    return SimpleNamespace(nodeid=nodeid)
+
+
+def test_scenarios_are_ordered_longest_first_and_other_tests_keep_their_places() -> None:
+    items = [_item(name) for name in ("a", "test_x", "b", "c", "d")]
+    durations = {"a": 0.2, "b": None, "c": 3.0, "d": 1.0}  # b: not measured yet, counts as longest
+    ordered = longest_first(items, durations)
+    assert [item.nodeid for item in ordered] == ["b", "test_x", "c", "d", "a"]
+
+
+def test_only_pytest_xdist_workers_reorder_the_scenarios(tmp_path: Path) -> None:
+    class Cache:
+        def get(self, key: str, default: Any) -> Any:
+            return {duration_key("m.yaml::slow"): 9.0}.get(key, default)
+
+    class Scenario(MissionItem):
+        nodeid = ""  # type: ignore[assignment]  (a plain attribute here)
+
+    fast, slow = Scenario.__new__(Scenario), Scenario.__new__(Scenario)
+    fast.nodeid, slow.nodeid = "m.yaml::fast", "m.yaml::slow"
+    items: list[pytest.Item] = [fast, slow]
+    pytest_collection_modifyitems(SimpleNamespace(cache=Cache()), items)  # type: ignore[arg-type]
+    assert items == [fast, slow]  # a single process: the files' order
+    worker = SimpleNamespace(cache=Cache(), workerinput={"workerid": "gw0"})
+    pytest_collection_modifyitems(worker, items)  # type: ignore[arg-type]
+    assert items == [fast, slow]  # fast was never measured: it counts as longest
+    fast_seconds = {duration_key("m.yaml::fast"): 0.5, duration_key("m.yaml::slow"): 9.0}
+    worker.cache.get = lambda key, default: fast_seconds.get(key, default)  # type: ignore[method-assign]
+    pytest_collection_modifyitems(worker, items)  # type: ignore[arg-type]
+    assert items == [slow, fast]

@@ -198,3 +198,46 @@ def test_a_refused_mission_leaves_no_run_process_behind(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout) == {"code": 2, "children": []}
     assert not (tmp_path / "run").exists()
+
+
+def test_the_run_process_is_forked_before_the_run_command_loads(tmp_path: Path) -> None:
+    # The child starts loading the simulation stack while this process parses the arguments
+    # and loads the mission language (pydantic) and the mission.
+    bad = REPO / "tests" / "bad_inputs" / "missions" / "seed_word.yaml"
+    script = (
+        "import contextlib, io, json, sys\n"
+        "from baobab.missions.run import child_process\n"
+        "forks = []\n"
+        "real = child_process.start_child\n"
+        "def start_child(prepare):\n"
+        "    forks.append(sorted(m for m in sys.modules if m.split('.')[0] in\n"
+        "                        ('pydantic', 'py_trees', 'yaml', 'baobab')))\n"
+        "    return real(prepare)\n"
+        "child_process.start_child = start_child\n"
+        "from baobab.missions.cli.command_line import main\n"
+        "with contextlib.redirect_stderr(io.StringIO()):\n"
+        f"    code = main(['run', {str(bad)!r}, '--out', {str(tmp_path / 'run')!r}])\n"
+        "print(json.dumps({'code': code, 'forks': forks}))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert report["code"] == 2 and len(report["forks"]) == 1
+    loaded = report["forks"][0]
+    assert "baobab.missions.cli.run_command" not in loaded
+    assert "pydantic" not in loaded and "py_trees" not in loaded  # its plugin stand-in only
+
+
+def test_the_run_process_loads_its_stack_with_the_collector_paused_then_frozen() -> None:
+    script = (
+        "import gc, json\n"
+        "from baobab.missions.cli.run_process import prepare_run_process\n"
+        "prepare_run_process()\n"
+        "print(json.dumps([gc.isenabled(), gc.get_freeze_count() > 100_000]))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=True
+    )
+    assert json.loads(done.stdout) == [True, True]  # enabled again; the modules' objects frozen

@@ -34,9 +34,10 @@ PRECOMPILE_REQUIRES = [
     "scipy>=1.11",
     "numba>=0.61",
     "ruckig>=0.12",
+    "pillow>=10.1",
 ]
 """What running the bundled missions loads (pyproject.toml's run dependencies but the
-plotting, recording and terminal ones)."""
+plotting, recording and terminal ones; Pillow reads a map world's image)."""
 
 
 def precompiling() -> bool:
@@ -74,7 +75,10 @@ class BuildPyWithKernels(build_py):
 
 def precompile_kernels(build_lib: Path) -> None:
     """Run the bundled missions on the modules in ``build_lib``; warn and go on if it fails."""
-    env = dict(os.environ, PYTHONPATH=str(build_lib), PYTHONDONTWRITEBYTECODE="1")
+    # The built modules first; then what was on the path: pip's isolated build environment
+    # reaches its packages (the run's dependencies) through PYTHONPATH.
+    path = [str(build_lib), *filter(None, [os.environ.get("PYTHONPATH")])]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(path), PYTHONDONTWRITEBYTECODE="1")
     env.setdefault("MUJOCO_GL", "egl")
     for variable in ("NUMBA_CACHE_DIR", "NUMBA_DISABLE_JIT", "PYTHONPYCACHEPREFIX"):
         env.pop(variable, None)

@@ -28,12 +28,15 @@ import argparse
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 from baobab.missions.cli.interrupts import signals_for
 from baobab.missions.cli.startup import skip_pydantic_plugin_discovery
 from baobab.missions.run.exit_codes import EXIT_INTERRUPTED, EXIT_INVALID
 from baobab.sim.errors import BaobabError, SourceError, one_line
+
+if TYPE_CHECKING:
+    from baobab.missions.run.child_process import StartedChild
 
 Handler = Callable[[argparse.Namespace], int]
 """Runs a subcommand on its parsed arguments; returns the exit code."""
@@ -43,8 +46,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``baobab`` console script; returns the exit code."""
     skip_pydantic_plugin_discovery()
     arguments = list(sys.argv[1:] if argv is None else argv)
-    command = next((argument for argument in arguments if not argument.startswith("-")), None)
-    parser = build_parser(command)
     for argument in arguments:
         if not _is_utf8(argument):
             # A run writes its arguments (--set values, paths) into UTF-8 files (result.json,
@@ -55,6 +56,24 @@ def main(argv: Sequence[str] | None = None) -> int:
                 file=sys.stderr,
             )
             return EXIT_INVALID
+    command = next((argument for argument in arguments if not argument.startswith("-")), None)
+    run_process = None
+    if command == "run":  # its process loads the simulation stack while this one starts up
+        from baobab.missions.cli.run_process import start_run_process
+
+        run_process = start_run_process()
+    try:
+        return _parse_and_handle(arguments, command, run_process)
+    finally:
+        if run_process is not None:
+            run_process.discard()  # unused (refused input, --help) or done: ended, reaped
+
+
+def _parse_and_handle(
+    arguments: list[str], command: str | None, run_process: StartedChild | None
+) -> int:
+    """Parse ``arguments`` and run the command they name; returns the exit code."""
+    parser = build_parser(command)
     extras: dict[str, list[str]] = {}
     if command == "ros":  # `-- --ros-args ...` and `name:=value` words are not argparse's
         from baobab.missions.cli.ros_command import split_arguments
@@ -65,6 +84,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exit_:  # argparse: --help (0) or a usage error (2)
         return int(exit_.code or 0)
     vars(args).update(extras)
+    if run_process is not None:
+        args.run_process = run_process
     handler: Handler = args.handler
     signals_for(args.command)
     try:

@@ -41,7 +41,6 @@ from baobab.missions.cli.nav2_params_command import add_nav2_params_options
 from baobab.missions.cli.run_job import (
     FinishedRun,
     RunRequest,
-    prepare_run_process,
     save_run,
     shower,
     simulate,
@@ -166,20 +165,17 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
     recording = recording_options(args)
     if args.seed is not None and args.seed < 0:
         raise BaobabError(f"--seed must be >= 0, got {args.seed}")
-    child = _start_run_process()
+    # The run's process: forked by main() as soon as it saw the command (run_process.py).
+    child: StartedChild | None = getattr(args, "run_process", None)
+    if child is None:
+        from baobab.missions.cli.run_process import start_run_process
+
+        child = start_run_process()
     try:
         return _checked_run(args, overrides, recording, child)
     finally:
         if child is not None:
             child.discard()  # refused input: the run's process ends unused
-
-
-def _start_run_process() -> StartedChild | None:
-    """Fork the run's process now, to load the simulation stack while this one checks the
-    input; None where forking is not safe (the run then happens in this process)."""
-    from baobab.missions.run.child_process import fork_is_safe, start_child
-
-    return start_child(prepare_run_process) if fork_is_safe() else None
 
 
 def _checked_run(

@@ -5,7 +5,7 @@ The job (:func:`simulate`, on a :class:`RunRequest`) runs the mission and, with
 the parent as :data:`RunMessage`\ s and ends with a :class:`FinishedRun`, which
 :func:`save_run` writes to the run folder (or a fallback folder). The run's process is forked
 before the mission is loaded and loads the simulation stack meanwhile
-(:func:`prepare_run_process`); the request, plain data, reaches it through a pipe.
+(:mod:`.run_process`); the request, plain data, reaches it through a pipe.
 """
 
 from __future__ import annotations
@@ -119,15 +119,6 @@ def simulate_in_child(request: RunRequest, send: Callable[[RunMessage], None]) -
     with signals.installed():
         handle_forwarded_signals()
         return simulate(request, signals, send)
-
-
-def prepare_run_process() -> None:
-    """What a run's process loads before it knows its mission: the run's modules (MuJoCo,
-    py_trees, numba) and the compiled control dispatcher every robot uses."""
-    import baobab.missions.run.runner  # noqa: F401  (imported for its cost, now)
-    from baobab.sim.native_control import load_dispatcher
-
-    load_dispatcher()
 
 
 def shower(progress: LineProgress | LiveProgress) -> Callable[[RunMessage], None]:

@@ -21,7 +21,10 @@ mission when there is one, and writes its run folder under pytest's temporary di
 ``--baobab-runs DIR``). A run folder holds ``plot.png`` only when the scenario failed (drawing
 it costs more than a short scenario's simulation), unless ``--baobab-plots all`` asks for
 every one (``none``: for no one). A failure prints the table of expectations, measured against
-expected, the run folder's path and the command that replays the run. In a JUnit report
+expected, the run folder's path and the command that replays the run. Each scenario's loop time
+is kept in pytest's cache (``baobab/loop_seconds/<file>/<name>``); under pytest-xdist the workers
+collect the scenarios longest first by it (:func:`longest_first`), so the longest ones do not
+start last and leave one worker running alone at the end. In a JUnit report
 (:mod:`~baobab.missions.testing.pytest_junit`) each mission is a testcase named by its folder
 and name,
 with its result, sim time, trace digest, seed, baseline and run folder in its system-out.
@@ -50,6 +53,8 @@ if TYPE_CHECKING:
     from baobab.missions.language.loader import Mission
 
 INI_COLLECT = "baobab_missions"
+DURATION_KEY = "baobab/loop_seconds/"
+"""pytest cache key prefix of a scenario's last loop time (wall s), by its node id."""
 PLOTS_CHOICES = ("failed", "all", "none")
 SUFFIXES = (".yaml", ".yml")
 _MISSION_KEY = re.compile(rb"^mission[ \t]*:", re.MULTILINE)
@@ -133,6 +138,41 @@ def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.Col
     return collector
 
 
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """In a pytest-xdist worker, order the scenarios longest first by their last loop time."""
+    cache = getattr(config, "cache", None)
+    if cache is None or not hasattr(config, "workerinput"):
+        return
+    durations = {
+        item.nodeid: cache.get(duration_key(item.nodeid), None)
+        for item in items
+        if isinstance(item, MissionItem)
+    }
+    items[:] = longest_first(items, durations)
+
+
+def duration_key(nodeid: str) -> str:
+    """The cache key of a scenario's loop time (a file name: no ``:``)."""
+    return DURATION_KEY + nodeid.replace("::", "/")
+
+
+def longest_first(
+    items: list[pytest.Item], durations: dict[str, float | None]
+) -> list[pytest.Item]:
+    """``items`` with those named in ``durations`` (node id: seconds, None when not known yet)
+    moved to their places longest first; unknown ones count as longest (keep their order)."""
+    places = [index for index, item in enumerate(items) if item.nodeid in durations]
+
+    def longest(index: int) -> tuple[bool, float]:
+        seconds = durations[items[index].nodeid]
+        return (seconds is not None, -(seconds or 0.0))
+
+    ordered = list(items)
+    for place, index in zip(places, sorted(places, key=longest), strict=True):
+        ordered[place] = items[index]
+    return ordered
+
+
 class MissionYamlFile(pytest.File):
     """A mission file: one :class:`MissionItem`, or one :class:`InvalidMissionItem`."""
 
@@ -181,6 +221,9 @@ class MissionItem(pytest.Item):
             plots=config.getoption("baobab_plots"),
         )
         record = scenario.record
+        cache = getattr(config, "cache", None)
+        if cache is not None:  # the next session's order (pytest_collection_modifyitems)
+            cache.set(duration_key(self.nodeid), round(record.wall_time, 3))
         error = f" {record.outcome.error_name} ({record.outcome.error_code})"
         facts = {
             "result": record.outcome.result + (error if record.outcome.error_code else ""),
