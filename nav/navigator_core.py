@@ -12,16 +12,21 @@ from __future__ import annotations
 
 import enum
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path as FilePath
+from typing import Any
 
 from baobab.nav import msgs
+from baobab.nav.collision_monitor import CollisionMonitor
+from baobab.nav.collision_monitor_config import layered_collision_monitor, robot_footprint
+from baobab.nav.collision_monitor_params import CollisionMonitorConfigError, CollisionMonitorParams
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
-from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot
+from baobab.nav.navigator_robot import NavigatorSetupError, SimulatedRobot, build_simulated_robot
 from baobab.nav.navigator_time import NavigatorWaits
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
 from baobab.nav.server import NavigationServer, build_navigation
+from baobab.robots.catalog import ROBOTS, RobotInfo
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
 from baobab.sim.world import Pose2D, World, load_world
@@ -56,6 +61,10 @@ class NavigatorCore(Node):
         start: the robot's map-frame start pose; the world's default spawn when None.
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
+        collision_monitor: Nav2's ``collision_monitor`` parameters (a mapping with Nav2's
+            names, :mod:`baobab.nav.collision_monitor_params`); they override the world's
+            ``collision_monitor:`` block, parameter by parameter. With neither, the robot has
+            no collision monitor.
 
     ``world``, ``start``, ``seed`` and ``realtime`` left at None take the values of
     :func:`~baobab.nav.defaults.navigator_defaults` (what ``baobab nav2 --world ...`` sets);
@@ -63,7 +72,8 @@ class NavigatorCore(Node):
 
     Raises:
         WorldError: the world cannot be loaded (located message).
-        NavigatorSetupError: an unknown robot, or a start pose that is not free.
+        NavigatorSetupError: an unknown robot, a start pose that is not free, or collision
+            monitor parameters that are not valid.
         TypeError: an argument of the wrong type.
     """
 
@@ -77,6 +87,7 @@ class NavigatorCore(Node):
         start: Pose2D | None = None,
         seed: int | None = None,
         realtime: bool | None = None,
+        collision_monitor: Mapping[str, Any] | None = None,
     ) -> None:
         defaults = navigator_defaults()
         settings = NavigatorDefaults(
@@ -87,6 +98,7 @@ class NavigatorCore(Node):
         )
         loaded = world if isinstance(world, World) else load_world(settings.world)
         self._robot_model = robot
+        self._monitor_parameters = collision_monitor
         self._seed = settings.seed
         self._time_offset = 0.0
         self._world = loaded
@@ -107,8 +119,28 @@ class NavigatorCore(Node):
     # -- the simulation -----------------------------------------------------------------------
 
     def _build(self, world: World, start: Pose2D) -> tuple[SimulatedRobot, NavigationServer]:
+        robot = ROBOTS.get(self._robot_model)
+        monitor_params = None if robot is None else self._monitor_params(world, robot)
         rig = build_simulated_robot(self._robot_model, world, start, self._seed)
-        return rig, build_navigation(rig.sim, rig.base, rig.lidar, world)
+        monitor = None
+        if robot is not None and monitor_params is not None:
+            footprint = robot_footprint(robot)
+            monitor = CollisionMonitor(rig.sim, rig.base, rig.lidar, monitor_params, footprint)
+        server = build_navigation(rig.sim, rig.base, rig.lidar, world, collision_monitor=monitor)
+        return rig, server
+
+    def _monitor_params(self, world: World, robot: RobotInfo) -> CollisionMonitorParams | None:
+        """The collision monitor of the robot's, ``world``'s and the constructor's parameters.
+
+        Raises:
+            NavigatorSetupError: naming the parameter that is wrong and where it was given.
+        """
+        layers = [robot.collision_monitor, world.collision_monitor, self._monitor_parameters]
+        try:
+            return layered_collision_monitor(layers, robot_footprint(robot))
+        except CollisionMonitorConfigError as exc:
+            where = (f"robot '{robot.name}': ", f"world '{world.name}': ", "")[exc.layer]
+            raise NavigatorSetupError(where + exc.describe()) from None
 
     def _sim_seconds(self) -> float:
         return self._time_offset + self._rig.sim.time

@@ -44,6 +44,7 @@ from baobab.nav.behaviors import (
     TeleopInput,
     Wait,
 )
+from baobab.nav.collision_monitor import COLLISION_MONITOR_TOGGLE, CollisionMonitor
 from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_updates import CostmapUpdates
@@ -466,6 +467,7 @@ def build_navigation(
     world: World,
     *,
     params: NavigationParams | None = None,
+    collision_monitor: CollisionMonitor | None = None,
 ) -> NavigationServer:
     """Wire a navigation server to an already-built robot (the mission runner's factory).
 
@@ -475,5 +477,11 @@ def build_navigation(
         lidar: its scanner, e.g. the TurtleBot3's ``Lidar``, or None.
         world: the world the simulation was built from.
         params: navigation settings (defaults: Nav2's, for the Burger).
+        collision_monitor: the robot's collision monitor, if it has one: the server then
+            drives through it and serves its ``collision_monitor/toggle``.
     """
-    return NavigationServer(sim, robot_base, world, lidar=lidar, params=params)
+    if collision_monitor is None:
+        return NavigationServer(sim, robot_base, world, lidar=lidar, params=params)
+    server = NavigationServer(sim, collision_monitor.base, world, lidar=lidar, params=params)
+    server.services[COLLISION_MONITOR_TOGGLE] = collision_monitor.toggle
+    return server

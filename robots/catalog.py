@@ -7,7 +7,9 @@ this module loads nothing else: ``baobab validate`` reads it without MuJoCo.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 NAVIGATION = "navigation"
 """A Nav2-style navigation server (:mod:`baobab.nav`)."""
@@ -19,6 +21,9 @@ TELEOP = "teleop"
 """Teleop input that events hold (assisted teleop reads it)."""
 ROS_NODES = "ros_nodes"
 """rclpy node files run on the robot, which is on ROS topics (:mod:`baobab.nav.ros`)."""
+COLLISION_MONITOR = "collision_monitor"
+"""Nav2's collision monitor on the base's commands, when a ``collision_monitor:`` block
+configures one (:mod:`baobab.nav.collision_monitor`)."""
 
 
 @dataclass(frozen=True)
@@ -37,6 +42,8 @@ class RobotInfo:
         scenes: for fixed robots, the scene names ``world:`` may give (first = default).
         scene_objects: free objects of those scenes, by name (``relative_to:`` targets).
         has_lidar: True when the robot carries a 2D lidar (``noise: lidar_std`` applies).
+        collision_monitor: the robot's own ``collision_monitor:`` parameters (Nav2's names),
+            which a world's and a mission's block override; None for none.
     """
 
     name: str
@@ -49,6 +56,7 @@ class RobotInfo:
     scenes: tuple[str, ...] = ()
     scene_objects: tuple[str, ...] = ()
     has_lidar: bool = False
+    collision_monitor: Mapping[str, Any] | None = None
 
     def describe_capabilities(self) -> str:
         """``arm`` or ``base_controllers, navigation, teleop``."""
@@ -59,7 +67,9 @@ ROBOTS: dict[str, RobotInfo] = {
     "turtlebot3": RobotInfo(
         name="turtlebot3",
         description="TurtleBot3 Burger: differential drive with a 360-beam 2D lidar",
-        capabilities=frozenset({NAVIGATION, BASE_CONTROLLERS, TELEOP, ROS_NODES}),
+        capabilities=frozenset(
+            {NAVIGATION, BASE_CONTROLLERS, TELEOP, ROS_NODES, COLLISION_MONITOR}
+        ),
         mobile=True,
         footprint_radius=0.105,
         max_linear_speed=0.22,

@@ -11,7 +11,7 @@ import hashlib
 import math
 from functools import cached_property
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 from pydantic import ConfigDict, Field, ValidationError, model_validator
 
@@ -136,6 +136,11 @@ class World(_Strict):
     cylinders: list[Cylinder] = Field(default_factory=empty_list)
     spawns: dict[str, Pose2D] = Field(min_length=1)
     locations: dict[str, Pose2D] = Field(default_factory=dict)
+    collision_monitor: dict[str, Any] | None = Field(
+        default=None,
+        description="parameters of the robot's collision monitor in this world, kept as "
+        "written: the navigation stack reads them (baobab.nav.collision_monitor_params)",
+    )
 
     @model_validator(mode="after")
     def _check(self) -> World:

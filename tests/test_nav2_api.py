@@ -139,7 +139,14 @@ def test_the_constructor_takes_nav2s_arguments_and_baobabs_keyword_only() -> Non
         ("namespace", ""),
     ]
     assert all(p.kind is p.KEYWORD_ONLY for p in parameters[2:])
-    assert [p.name for p in parameters[2:]] == ["world", "robot", "start", "seed", "realtime"]
+    assert [p.name for p in parameters[2:]] == [
+        "world",
+        "robot",
+        "start",
+        "seed",
+        "realtime",
+        "collision_monitor",
+    ]
 
 
 def test_the_method_table_holds_rollings_47_public_methods() -> None:

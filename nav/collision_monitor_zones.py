@@ -1,0 +1,148 @@
+"""The collision monitor's zones at work: which points lie inside, and when a collision comes.
+
+A :class:`Zone` is one of Nav2's polygons (``polygon``, ``circle``, ``velocity_polygon``, or
+the robot's footprint for ``approach``) in ``base_footprint`` (m). Stop, slowdown and limit
+zones count the observation points inside (:meth:`Zone.triggered`, with Nav2's
+``trigger_consecutive_points`` / ``release_consecutive_points`` debounce); approach zones move
+the footprint ahead along the command (:meth:`Zone.collision_time`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from baobab.nav.collision_monitor_geometry import Footprint
+from baobab.nav.collision_monitor_params import PolygonParams, VelocityPolygon
+
+
+class Shape:
+    """A polygon (``vertices``, ``(K, 2)`` m) or a circle of ``radius`` (m) around the origin."""
+
+    def __init__(self, vertices: np.ndarray | None = None, radius: float = 0.0) -> None:
+        self.vertices = vertices
+        self.radius = radius
+
+    @classmethod
+    def of_footprint(cls, footprint: Footprint) -> Shape:
+        """The robot's own outline."""
+        if footprint.polygon:
+            return cls(np.asarray(footprint.polygon, dtype=float))
+        return cls(radius=footprint.radius)
+
+    def inside(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """Which points ``(x, y)`` (m, any shape) lie inside: Nav2's strict tests (a circle's
+        ``x^2 + y^2 < r^2``, the polygon's ray crossings)."""
+        if self.vertices is None:
+            return x * x + y * y < self.radius * self.radius
+        inside = np.zeros(np.shape(x), dtype=bool)
+        xi, yi = self.vertices[-1]
+        for xj, yj in self.vertices:
+            crosses = (y <= yi) != (y <= yj)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                x_at = xi + (y - yi) * (xj - xi) / (yj - yi)
+            inside ^= crosses & (x < x_at)
+            xi, yi = xj, yj
+        return inside
+
+
+class Zone:
+    """One polygon of the monitor, built from its parameters and the robot's footprint."""
+
+    def __init__(self, params: PolygonParams, footprint: Footprint) -> None:
+        self.params = params
+        self._velocity_shapes = [
+            (sub, Shape(np.asarray(sub.points, dtype=float))) for sub in params.velocity_polygons
+        ]
+        self.shape: Shape | None
+        if params.velocity_polygons:
+            self.shape = None  # chosen by the command (Nav2 keeps the last match)
+        elif params.is_footprint:
+            self.shape = Shape.of_footprint(footprint)
+        elif params.type == "circle":
+            self.shape = Shape(radius=params.radius)
+        else:
+            self.shape = Shape(np.asarray(params.points, dtype=float))
+        self._hits_in_row = 0
+        self._misses_in_row = 0
+        self.active = False
+
+    def update_shape(self, linear: float, angular: float) -> None:
+        """A velocity polygon takes the first sub-polygon whose ranges hold the command
+        (m/s, rad/s); with none, the last one chosen stays."""
+        for sub, shape in self._velocity_shapes:
+            if _in_range(sub, linear, angular, self.params.holonomic):
+                self.shape = shape
+                return
+
+    def count_inside(self, points: np.ndarray) -> int:
+        """How many of ``points`` (``(N, 2)``, m) lie inside the zone (0 without a shape)."""
+        if self.shape is None or len(points) == 0:
+            return 0
+        return int(np.count_nonzero(self.shape.inside(points[:, 0], points[:, 1])))
+
+    def triggered(self, points: np.ndarray) -> bool:
+        """Whether the zone acts this cycle: ``min_points`` or more inside for
+        ``trigger_consecutive_points`` cycles in a row; it releases after
+        ``release_consecutive_points`` cycles in a row with fewer."""
+        params = self.params
+        if self.count_inside(points) >= params.min_points:
+            self._hits_in_row += 1
+            self._misses_in_row = 0
+            if self._hits_in_row >= params.trigger_consecutive_points:
+                self.active = True
+        else:
+            self._misses_in_row += 1
+            self._hits_in_row = 0
+            if self._misses_in_row >= params.release_consecutive_points:
+                self.active = False
+        return self.active
+
+    def collision_time(self, points: np.ndarray, linear: float, angular: float) -> float | None:
+        """Time (s) until ``min_points`` of ``points`` (``(N, 2)``, m) fall inside the zone as
+        the robot keeps the command ``(linear, angular)`` (m/s, rad/s), or None within
+        ``time_before_collision``; 0 when they are inside already.
+
+        The footprint is moved ahead in steps of ``simulation_time_step`` along the exact
+        unicycle arc; the time is that of the first step whose pose collides (Nav2 reports the
+        step before it, one step earlier).
+        """
+        params = self.params
+        if self.count_inside(points) >= params.min_points:
+            return 0.0
+        if len(points) == 0 or self.shape is None:
+            return None
+        dt = params.simulation_time_step
+        times = dt * np.arange(1, math.floor(params.time_before_collision / dt + 1e-9) + 1)
+        x, y, yaw = _arc(linear, angular, times)
+        cos, sin = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
+        dx, dy = points[:, 0][None, :] - x[:, None], points[:, 1][None, :] - y[:, None]
+        local_x, local_y = cos * dx + sin * dy, -sin * dx + cos * dy
+        counts = np.count_nonzero(self.shape.inside(local_x, local_y), axis=1)
+        hits = np.flatnonzero(counts >= params.min_points)
+        return float(times[hits[0]]) if hits.size else None
+
+
+def _arc(linear: float, angular: float, times: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Poses (m, m, rad) after ``times`` (s) of a constant unicycle twist, from the origin."""
+    yaw = angular * times
+    if abs(angular) < 1e-9:
+        return linear * times, np.zeros_like(times), yaw
+    radius = linear / angular
+    return radius * np.sin(yaw), radius * (1.0 - np.cos(yaw)), yaw
+
+
+def _in_range(sub: VelocityPolygon, linear: float, angular: float, holonomic: bool) -> bool:
+    """Nav2's ``VelocityPolygon::isInRange`` for a base without lateral speed."""
+    if not sub.theta_min <= angular <= sub.theta_max:
+        return False
+    if not holonomic:
+        return sub.linear_min <= linear <= sub.linear_max
+    speed, direction = abs(linear), (0.0 if linear >= 0 else math.pi)
+    start, end = sub.direction_start_angle, sub.direction_end_angle
+    if start <= end:
+        heading_ok = start <= direction <= end
+    else:
+        heading_ok = direction >= start or direction <= end
+    return heading_ok and sub.linear_min <= speed <= sub.linear_max
