@@ -11,6 +11,7 @@ from types import ModuleType
 
 from baobab.behaviours import (
     arm_nodes,
+    collision_monitor_nodes,
     common_nodes,
     control_nodes,
     navigation_nodes,
@@ -23,6 +24,7 @@ NODE_MODULES: tuple[ModuleType, ...] = (
     control_nodes,
     common_nodes,
     navigation_nodes,
+    collision_monitor_nodes,
     progress_nodes,
     arm_nodes,
     ros_nodes,

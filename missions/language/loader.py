@@ -5,12 +5,13 @@ Order of work (each step's errors come before the next step's):
 1. the located YAML loader (syntax, duplicate keys, aliases, nesting, size, NaN), unknown
    top-level keys (a ``# yaml-language-server: $schema=...`` comment is optional, for editors);
 2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
-   timeout and expect (and a refusal of ``${`` anywhere else);
+   noise, collision_monitor, timeout and expect (and a refusal of ``${`` anywhere else);
 3. the top-level model (types, events, expectations);
 4. robot, world (a bundled name or a file inside the mission's folder) and locations (the
    world's spawns and locations, then the mission's, which win);
-5. start pose, the tree (node types, capabilities, parameters, goal poses in free space),
-   every subtree body, then the cross-checks of events and expectations.
+5. start pose, the collision monitor (robot's, world's and mission's blocks), the tree (node
+   types, capabilities, parameters, goal poses in free space), every subtree body, then the
+   cross-checks of events and expectations.
 """
 
 from __future__ import annotations
@@ -18,13 +19,17 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pydantic import TypeAdapter, ValidationError
 
 from baobab.behaviours.builtin import default_registry
 from baobab.behaviours.poses import MissionScope, Pose
 from baobab.behaviours.registry import Registry
+from baobab.missions.language.collision_monitor_block import (
+    check_toggles,
+    mission_collision_monitor,
+)
 from baobab.missions.language.cross_checks import MissionChecks
 from baobab.missions.language.errors import MissionError, describe_validation_error, located
 from baobab.missions.language.models import (
@@ -49,6 +54,9 @@ from baobab.sim.errors import unknown_name
 from baobab.sim.input_files import file_kind_problem
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
 from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml, read_yaml_text
+
+if TYPE_CHECKING:  # loaded only for a mission with a collision monitor
+    from baobab.nav.collision_monitor_params import CollisionMonitorParams
 
 SCHEMA_HEADER = "# yaml-language-server: $schema="
 """The editor comment that bundled and generated missions begin with, before the schema's
@@ -79,6 +87,8 @@ class Mission:
         expect: the expectations, if any.
         document: the located YAML document (for messages about nodes).
         noise: the run's sensor noise (off unless the file asks for it).
+        collision_monitor: the robot's collision monitor (the robot's, the world's and the
+            mission's ``collision_monitor:`` blocks merged), or None without one.
     """
 
     path: Path
@@ -99,6 +109,7 @@ class Mission:
     expect: Expect | None
     document: LocatedDocument
     noise: Noise = field(default_factory=Noise)
+    collision_monitor: CollisionMonitorParams | None = None
 
 
 def load_mission(
@@ -176,8 +187,12 @@ class _Loader:
             robot, world, self._locations(file, robot, world), self.path.parent.resolve()
         )
         start = self._start(file.start, scope, world)
+        monitor = mission_collision_monitor(
+            self.document, file.collision_monitor, robot, world, world_name, self.origins
+        )
         parser = TreeParser(self.document, self.registry, scope, file.subtrees, self.origins)
         tree = parser.parse(file.tree, ("tree",))
+        check_toggles(self.document, tree, monitor is not None)
         shapes = {name: parser.check_template(name, spec) for name, spec in file.subtrees.items()}
         checks = MissionChecks(self.document, scope, self.origins)
         checks.events(file.events, file.timeout)
@@ -203,6 +218,7 @@ class _Loader:
             expect=file.expect,
             document=self.document,
             noise=file.noise,
+            collision_monitor=monitor,
         )
 
     def _top_level(self) -> dict[str, Any]:

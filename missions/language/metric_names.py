@@ -22,6 +22,8 @@ MOBILE_METRICS = (
     "teleop_slowed_cycles",
     "teleop_max_speed",
     "teleop_costmap_clears",
+    "collision_monitor_stops",
+    "collision_monitor_time",
 )
 """The numeric metrics of a mobile robot's run (``baobab.missions.run.rig.MobileRig``)."""
 MOBILE_STRUCTURED_METRICS = ("contact_objects", "start_pose", "final_pose", "visited")
