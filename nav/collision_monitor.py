@@ -29,7 +29,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from baobab.nav.collision_monitor_geometry import Footprint
 from baobab.nav.collision_monitor_params import (
     ActionType,
     CollisionMonitorParams,
@@ -37,6 +36,7 @@ from baobab.nav.collision_monitor_params import (
 )
 from baobab.nav.collision_monitor_zones import Zone
 from baobab.nav.interfaces import MobileBase, ScanSource
+from baobab.robots.footprint import Footprint
 from baobab.sim.lidar import LaserScan
 from baobab.sim.simulation import Simulation
 from baobab.sim.world import Pose2D

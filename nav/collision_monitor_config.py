@@ -5,8 +5,9 @@
 :class:`~baobab.nav.collision_monitor_params.CollisionMonitorParams`; each mistake is a
 :class:`~baobab.nav.collision_monitor_params.CollisionMonitorConfigError` that names the key
 path, so a file's loader can locate it. A dynamic polygon (``polygon_sub_topic``) and sources
-other than the lidar's ``scan`` are refused. Layers (robot, then world, then mission) merge
-parameter by parameter, as Nav2's parameter files do (:func:`merge_layers`), and
+other than the lidar's ``scan`` are refused. Layers (the world's block, then the mission's or
+the navigator's) merge parameter by parameter, as Nav2's parameter files do
+(:func:`merge_layers`), and
 :func:`layered_collision_monitor` checks the result against the robot's footprint (an
 ``approach`` zone must hold the robot). Nothing here loads numpy: ``baobab validate`` uses it.
 """
@@ -18,9 +19,9 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from baobab.nav.collision_monitor_geometry import (
-    Footprint,
     Point,
     contains_footprint,
+    describe_footprint,
     parse_points,
     polygon_problem,
 )
@@ -47,6 +48,7 @@ from baobab.nav.collision_monitor_params import (
     VelocityPolygon,
 )
 from baobab.robots.catalog import RobotInfo
+from baobab.robots.footprint import Footprint
 from baobab.sim.errors import unknown_name
 
 
@@ -101,8 +103,8 @@ def footprint_problem(
             return CollisionMonitorConfigError(
                 (polygon.name, key),
                 "an approach zone is the robot's footprint and must contain the robot "
-                f"({footprint.describe()} around base_footprint); leave out points to use the "
-                "robot's own footprint",
+                f"({describe_footprint(footprint)} around base_footprint); leave out points "
+                "to use the robot's own footprint",
             )
     return None
 
@@ -110,7 +112,7 @@ def footprint_problem(
 def layered_collision_monitor(
     layers: Sequence[Mapping[str, Any] | None], footprint: Footprint
 ) -> CollisionMonitorParams | None:
-    """The monitor the ``collision_monitor:`` blocks of ``layers`` (robot, world, mission: the
+    """The monitor the ``collision_monitor:`` blocks of ``layers`` (world, then mission: the
     later wins, parameter by parameter) configure, checked against the robot's ``footprint``;
     None when no layer has a block.
 
@@ -139,8 +141,14 @@ def layered_collision_monitor(
 
 
 def robot_footprint(robot: RobotInfo) -> Footprint:
-    """The footprint the monitor gives ``robot``: the one place robot figures enter it."""
-    return Footprint(radius=robot.footprint_radius)
+    """The footprint the monitor gives ``robot`` (its real, unpadded outline).
+
+    Raises:
+        ValueError: for a fixed robot (a programming error: only mobile robots have one).
+    """
+    if robot.footprint is None:
+        raise ValueError(f"robot '{robot.name}' has no footprint")
+    return robot.footprint
 
 
 def merge_layers(layers: Sequence[Mapping[str, Any]]) -> dict[str, Any]:

@@ -12,37 +12,15 @@ import ast
 import itertools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
+
+from baobab.robots.footprint import Footprint
 
 Point = tuple[float, float]
 """A point in ``base_footprint`` (m): x forward, y left."""
 
 MAX_POINTS = 1_000
 """Most vertices of one polygon."""
-
-
-@dataclass(frozen=True)
-class Footprint:
-    """The robot's outline: a circle of ``radius`` (m) around ``base_footprint``, or a
-    ``polygon`` (vertices in order, m). What Nav2's local costmap publishes as the footprint
-    the ``approach`` model moves ahead."""
-
-    radius: float = 0.0
-    polygon: tuple[Point, ...] = ()
-
-    @property
-    def extent(self) -> float:
-        """The farthest the outline reaches from the origin (m)."""
-        if self.polygon:
-            return max(math.hypot(x, y) for x, y in self.polygon)
-        return self.radius
-
-    def describe(self) -> str:
-        """``a circle of radius 0.105 m`` or ``a polygon of 4 points``."""
-        if self.polygon:
-            return f"a polygon of {len(self.polygon)} points"
-        return f"a circle of radius {self.radius:g} m"
 
 
 def parse_points(value: Any) -> tuple[Point, ...]:
@@ -121,8 +99,8 @@ def contains_footprint(points: Sequence[Point] | None, radius: float, footprint:
     """True when the zone (``points``, or a circle of ``radius`` without them) holds the
     whole ``footprint``."""
     if points is None:
-        return radius >= footprint.extent - 1e-9
-    if footprint.polygon:
+        return radius >= footprint.circumscribed_radius - 1e-9
+    if footprint.radius is None:
         outline = footprint.polygon
         return all(point_inside(points, x, y) for x, y in outline) and not any(
             _segments_cross(*a, *b)
@@ -132,6 +110,13 @@ def contains_footprint(points: Sequence[Point] | None, radius: float, footprint:
     return point_inside(points, 0.0, 0.0) and edge_distance(points, 0.0, 0.0) >= (
         footprint.radius - 1e-9
     )
+
+
+def describe_footprint(footprint: Footprint) -> str:
+    """``a circle of radius 0.105 m`` or ``a polygon of 4 points``."""
+    if footprint.radius is None:
+        return f"a polygon of {len(footprint.polygon)} points"
+    return f"a circle of radius {footprint.radius:g} m"
 
 
 def _segment_distance(x: float, y: float, a: Point, b: Point) -> float:

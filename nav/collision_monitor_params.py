@@ -1,6 +1,6 @@
 """Nav2's collision monitor parameters: the names, defaults and units of ``nav2_collision_monitor``.
 
-A ``collision_monitor:`` block (in a mission, its world or its robot) holds what a Nav2
+A ``collision_monitor:`` block (in a mission or its world) holds what a Nav2
 parameter file holds under ``collision_monitor: ros__parameters:``: the node's parameters,
 ``polygons: [names]`` and ``observation_sources: [names]``, and one mapping of parameters per
 name::

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from baobab.nav.collision_monitor_geometry import Footprint
 from baobab.nav.collision_monitor_params import PolygonParams, VelocityPolygon
+from baobab.robots.footprint import Footprint
 
 
 class Shape:
@@ -27,7 +27,7 @@ class Shape:
     @classmethod
     def of_footprint(cls, footprint: Footprint) -> Shape:
         """The robot's own outline."""
-        if footprint.polygon:
+        if footprint.radius is None:
             return cls(np.asarray(footprint.polygon, dtype=float))
         return cls(radius=footprint.radius)
 

@@ -21,12 +21,18 @@ from baobab.nav.collision_monitor import CollisionMonitor
 from baobab.nav.collision_monitor_config import layered_collision_monitor, robot_footprint
 from baobab.nav.collision_monitor_params import CollisionMonitorConfigError, CollisionMonitorParams
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
-from baobab.nav.navigator_robot import NavigatorSetupError, SimulatedRobot, build_simulated_robot
+from baobab.nav.navigator_robot import (
+    NavigatorSetupError,
+    SimulatedRobot,
+    build_simulated_robot,
+    navigator_robot,
+)
 from baobab.nav.navigator_time import NavigatorWaits
+from baobab.nav.robot_params import navigation_params
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
 from baobab.nav.server import NavigationServer, build_navigation
-from baobab.robots.catalog import ROBOTS, RobotInfo
+from baobab.robots.catalog import RobotInfo
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
 from baobab.sim.world import Pose2D, World, load_world
@@ -57,7 +63,9 @@ class NavigatorCore(Node):
         node_name: the node's name (and its logger's).
         namespace: the node's namespace.
         world: a bundled world name, a world YAML path or a loaded ``World``.
-        robot: the robot model; ``"turtlebot3"`` (a Burger) is the one there is.
+        robot: a bundled mobile robot's name (``baobab list``), a robot file's path, or a
+            registry entry; None: what :func:`~baobab.nav.defaults.navigator_defaults` says
+            (``baobab nav2 --robot``), else the registry's default mobile robot.
         start: the robot's map-frame start pose; the world's default spawn when None.
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
@@ -66,7 +74,7 @@ class NavigatorCore(Node):
             ``collision_monitor:`` block, parameter by parameter. With neither, the robot has
             no collision monitor.
 
-    ``world``, ``start``, ``seed`` and ``realtime`` left at None take the values of
+    ``world``, ``robot``, ``start``, ``seed`` and ``realtime`` left at None take the values of
     :func:`~baobab.nav.defaults.navigator_defaults` (what ``baobab nav2 --world ...`` sets);
     the default start applies only with the default world.
 
@@ -74,6 +82,7 @@ class NavigatorCore(Node):
         WorldError: the world cannot be loaded (located message).
         NavigatorSetupError: an unknown robot, a start pose that is not free, or collision
             monitor parameters that are not valid.
+        RobotFileError: a robot file that cannot be used (located message).
         TypeError: an argument of the wrong type.
     """
 
@@ -83,7 +92,7 @@ class NavigatorCore(Node):
         namespace: str = "",
         *,
         world: str | FilePath | World | None = None,
-        robot: str = "turtlebot3",
+        robot: str | FilePath | RobotInfo | None = None,
         start: Pose2D | None = None,
         seed: int | None = None,
         realtime: bool | None = None,
@@ -97,7 +106,7 @@ class NavigatorCore(Node):
             realtime=defaults.realtime if realtime is None else realtime,
         )
         loaded = world if isinstance(world, World) else load_world(settings.world)
-        self._robot_model = robot
+        self._robot = navigator_robot(defaults.robot if robot is None else robot)
         self._monitor_parameters = collision_monitor
         self._seed = settings.seed
         self._time_offset = 0.0
@@ -119,27 +128,29 @@ class NavigatorCore(Node):
     # -- the simulation -----------------------------------------------------------------------
 
     def _build(self, world: World, start: Pose2D) -> tuple[SimulatedRobot, NavigationServer]:
-        robot = ROBOTS.get(self._robot_model)
-        monitor_params = None if robot is None else self._monitor_params(world, robot)
-        rig = build_simulated_robot(self._robot_model, world, start, self._seed)
+        monitor_params = self._monitor_params(world, self._robot)
+        rig = build_simulated_robot(self._robot, world, start, self._seed)
+        params = navigation_params(self._robot)
         monitor = None
-        if robot is not None and monitor_params is not None:
-            footprint = robot_footprint(robot)
+        if monitor_params is not None:
+            footprint = robot_footprint(self._robot)
             monitor = CollisionMonitor(rig.sim, rig.base, rig.lidar, monitor_params, footprint)
-        server = build_navigation(rig.sim, rig.base, rig.lidar, world, collision_monitor=monitor)
+        server = build_navigation(
+            rig.sim, rig.base, rig.lidar, world, params=params, collision_monitor=monitor
+        )
         return rig, server
 
     def _monitor_params(self, world: World, robot: RobotInfo) -> CollisionMonitorParams | None:
-        """The collision monitor of the robot's, ``world``'s and the constructor's parameters.
+        """The collision monitor of ``world``'s and the constructor's parameters.
 
         Raises:
             NavigatorSetupError: naming the parameter that is wrong and where it was given.
         """
-        layers = [robot.collision_monitor, world.collision_monitor, self._monitor_parameters]
+        layers = [world.collision_monitor, self._monitor_parameters]
         try:
             return layered_collision_monitor(layers, robot_footprint(robot))
         except CollisionMonitorConfigError as exc:
-            where = (f"robot '{robot.name}': ", f"world '{world.name}': ", "")[exc.layer]
+            where = (f"world '{world.name}': ", "")[exc.layer]
             raise NavigatorSetupError(where + exc.describe()) from None
 
     def _sim_seconds(self) -> float:

@@ -13,14 +13,14 @@ import pytest
 
 from baobab.nav.collision_monitor import INVALID_SOURCE, CollisionMonitor
 from baobab.nav.collision_monitor_config import parse_collision_monitor
-from baobab.nav.collision_monitor_geometry import Footprint
 from baobab.nav.collision_monitor_params import ActionType
+from baobab.robots.footprint import Footprint
 from baobab.sim.lidar import LaserScan
 from baobab.sim.world import Pose2D
 
 BEAMS = 720
 """Beams of the scripted scan (0.5 degree apart)."""
-FOOTPRINT = Footprint(radius=0.105)
+FOOTPRINT = Footprint.circle(0.105)
 STOP_AHEAD = {"type": "polygon", "points": "[[0.4, 0.2], [0.4, -0.2], [0.0, -0.2], [0.0, 0.2]]"}
 SLOW_AHEAD = {"type": "polygon", "points": "[[0.8, 0.3], [0.8, -0.3], [0.0, -0.3], [0.0, 0.3]]"}
 

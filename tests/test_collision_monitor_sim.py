@@ -16,7 +16,7 @@ from baobab.missions.run.event_targets import ObstacleSlots
 from baobab.missions.run.runner import RunRecord, run_mission
 from baobab.nav.collision_monitor import CollisionMonitor
 from baobab.nav.collision_monitor_config import parse_collision_monitor
-from baobab.nav.collision_monitor_geometry import Footprint
+from baobab.robots.footprint import Footprint
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.lidar import LaserScan
 from baobab.sim.world import Floor, Pose2D, World
@@ -69,7 +69,7 @@ class Drive:
             self.base,
             self.robot.lidar,
             parse_collision_monitor(block),
-            Footprint(radius=0.105),
+            Footprint.circle(0.105),
         )
         self.scans: list[float] = []
         self.robot.lidar.subscribe(self._on_scan)

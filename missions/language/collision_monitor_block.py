@@ -1,6 +1,6 @@
-"""A mission's collision monitor: its robot's, its world's and its own ``collision_monitor:``.
+"""A mission's collision monitor: its world's and its own ``collision_monitor:`` block.
 
-The three blocks hold Nav2's parameters (:mod:`baobab.nav.collision_monitor_params`) and merge
+The two blocks hold Nav2's parameters (:mod:`baobab.nav.collision_monitor_params`) and merge
 in that order, parameter by parameter, so a mission can switch off one zone of its world's
 monitor (``PolygonSlow: {enabled: false}``) or change one figure. A mistake is located in the
 file whose block holds it (the mission's or the world's). A tree that toggles the monitor
@@ -38,31 +38,27 @@ def mission_collision_monitor(
     """The monitor the mission runs with, or None when no block configures one.
 
     Raises:
-        MissionError: a mistake in the robot's or the mission's block, or a robot that
-            cannot carry a monitor (located in the mission).
+        MissionError: a mistake in the mission's block, or a robot that cannot carry a
+            monitor (located in the mission).
         WorldError: a mistake in the world's block (located in the world file).
     """
     world_block = None if world is None else world.collision_monitor
-    layers = [robot.collision_monitor, world_block, written]
-    if all(layer is None for layer in layers):
+    if world_block is None and written is None:
         return None
     if not (robot.mobile and robot.has_lidar):
-        where = (BLOCK,) if written is not None else ("robot",)
         message = f"a collision monitor needs a mobile robot with a lidar; {robot.name} is not one"
-        raise located(document, where, message)
+        raise located(document, (BLOCK,) if written is not None else ("robot",), message)
     # the monitor's parameters load only for a mission that has one (validate stays light)
     from baobab.nav.collision_monitor_config import layered_collision_monitor, robot_footprint
     from baobab.nav.collision_monitor_params import CollisionMonitorConfigError
 
     try:
-        return layered_collision_monitor(layers, robot_footprint(robot))
+        return layered_collision_monitor([world_block, written], robot_footprint(robot))
     except CollisionMonitorConfigError as exc:
         message = exc.describe(BLOCK)
-        if exc.layer == 2:
-            raise located(document, (BLOCK, *exc.key_path), message, origins) from None
         if exc.layer == 1:
-            raise _world_error(world_name, (BLOCK, *exc.key_path), message) from None
-        raise located(document, ("robot",), f"robot '{robot.name}': {message}") from None
+            raise located(document, (BLOCK, *exc.key_path), message, origins) from None
+        raise _world_error(world_name, (BLOCK, *exc.key_path), message) from None
 
 
 def check_toggles(document: LocatedDocument, tree: Node, configured: bool) -> None:

@@ -7,9 +7,11 @@ Order of work (each step's errors come before the next step's):
 2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
    noise, collision_monitor, timeout and expect (and a refusal of ``${`` anywhere else);
 3. the top-level model (types, events, expectations);
-4. robot, world (a bundled name or a file inside the mission's folder) and locations (the
-   world's spawns and locations, then the mission's, which win);
-5. start pose, the collision monitor (robot's, world's and mission's blocks), the tree (node
+4. robot (a bundled name or a robot file inside the mission's folder, or the ``--robot``
+   override; one of ``robots:`` when the mission lists the robots it fits), world (a bundled
+   name or a file inside the mission's folder) and locations (the world's spawns and
+   locations, then the mission's, which win);
+5. start pose, the collision monitor (the world's and the mission's blocks), the tree (node
    types, capabilities, parameters, goal poses in free space), every subtree body, then the
    cross-checks of events and expectations.
 """
@@ -49,7 +51,8 @@ from baobab.missions.language.params import (
     resolve_values,
 )
 from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
-from baobab.robots.catalog import ROBOTS, RobotInfo
+from baobab.robots.catalog import RobotInfo, robot_named
+from baobab.robots.robot_file import is_robot_path, load_robot, load_robot_file
 from baobab.sim.errors import unknown_name
 from baobab.sim.input_files import file_kind_problem
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
@@ -72,7 +75,9 @@ class Mission:
         path: the mission file.
         name: the ``mission:`` value.
         description: free text.
-        robot: the robot's catalogue entry.
+        robot: the robot's registry entry (or its robot file's).
+        supported_robots: the bundled robots the mission fits (``robots:``); None: any that
+            has the capabilities its tree needs.
         world: the 2D world of a mobile robot; None for a fixed robot.
         world_name: the bundled world or scene name, or the world file's resolved path.
         start: the start pose of a mobile robot (the world's default spawn if not given).
@@ -95,6 +100,7 @@ class Mission:
     name: str
     description: str
     robot: RobotInfo
+    supported_robots: tuple[str, ...] | None
     world: World | None
     world_name: str
     start: Pose2D | None
@@ -118,6 +124,7 @@ def load_mission(
     *,
     text: str | None = None,
     registry: Registry | None = None,
+    robot: str | None = None,
 ) -> Mission:
     """Load, substitute and validate a mission file.
 
@@ -126,17 +133,21 @@ def load_mission(
         overrides: ``--set`` values by parameter name, as written on the command line.
         text: the file's content, if already in memory.
         registry: node types; default: :func:`default_registry`.
+        robot: ``--robot``: a bundled robot's name or a robot file's path (from the working
+            directory) that replaces the mission's ``robot:``, if the mission fits it.
 
     Raises:
         MissionError: the first problem, as ``path:line:col: message``.
         WorldError: a problem inside the world file the mission names.
+        RobotFileError: a problem inside the robot file the mission or ``robot`` names.
+        BaobabError: ``robot`` names no bundled robot.
     """
     mission_path = Path(path)
     if text is None:
         text = read_yaml_text(mission_path, MissionError)
     document = load_located_yaml(mission_path, MissionError, text=text)
     return _Loader(mission_path, document, text, registry or default_registry()).load(
-        overrides or {}
+        overrides or {}, robot
     )
 
 
@@ -153,11 +164,11 @@ class _Loader:
     def _error(self, path: KeyPath, message: str) -> MissionError:
         return located(self.document, path, message, self.origins)
 
-    def load(self, overrides: Mapping[str, str]) -> Mission:
+    def load(self, overrides: Mapping[str, str], robot_override: str | None) -> Mission:
         data = self._top_level()
         specs = self._params(data.get("params", {}))
         values = resolve_values(specs, overrides, self.document)
-        for key in ("mission", "world", "robot", "seed", "params", "locations"):
+        for key in ("mission", "world", "robot", "robots", "seed", "params", "locations"):
             if key in data:
                 check_no_placeholders(self.document, data[key], (key,))
         substitution = Substitution(
@@ -181,7 +192,7 @@ class _Loader:
                 origins=self.origins,
                 nouns={("expect",): "expectation", ("params",): "parameter"},
             ) from None
-        robot = ROBOTS[file.robot]
+        robot = self._robot(file, robot_override)
         world, world_name = self._world(file.world, robot)
         scope = MissionScope(
             robot, world, self._locations(file, robot, world), self.path.parent.resolve()
@@ -204,6 +215,7 @@ class _Loader:
             name=file.mission,
             description=file.description,
             robot=robot,
+            supported_robots=None if file.robots is None else tuple(file.robots),
             world=world,
             world_name=world_name,
             start=start,
@@ -263,13 +275,18 @@ class _Loader:
             if written not in bundled:
                 raise self._error(("world",), unknown_name("world", written, bundled))
             return load_world(written), written
+        resolved = self._file_in_folder("world", written)
+        return load_world(resolved), str(resolved)
+
+    def _file_in_folder(self, key: str, written: str) -> Path:
+        """The file ``written`` under ``key`` names, checked to lie inside the mission's folder."""
         relative = Path(written)
         folder = self.path.parent.resolve()
         resolved = (folder / relative).resolve()
         if relative.is_absolute() or not resolved.is_relative_to(folder):
             raise self._error(
-                ("world",),
-                f"world file '{written}' is outside the mission's folder; give a bundled world "
+                (key,),
+                f"{key} file '{written}' is outside the mission's folder; give a bundled {key} "
                 "name or a path inside the folder",
             )
         try:
@@ -277,10 +294,33 @@ class _Loader:
         except OSError:
             problem = "does not exist"
         if problem == "does not exist":
-            raise self._error(("world",), f"no world file '{written}' in the mission's folder")
+            raise self._error((key,), f"no {key} file '{written}' in the mission's folder")
         if problem is not None:
-            raise self._error(("world",), f"world file '{written}' {problem}; expected a file")
-        return load_world(resolved), str(resolved)
+            raise self._error((key,), f"{key} file '{written}' {problem}; expected a file")
+        return resolved
+
+    def _robot(self, file: MissionFile, override: str | None) -> RobotInfo:
+        """The mission's robot, or ``--robot``'s, checked against the robots it fits."""
+        if override is not None:
+            robot = load_robot(override)
+        elif is_robot_path(file.robot):
+            robot = load_robot_file(self._file_in_folder("robot", file.robot))
+        else:
+            found = robot_named(file.robot)
+            if found is None:  # pragma: no cover - the model checked the name
+                raise self._error(("robot",), f"unknown robot '{file.robot}'")
+            robot = found
+        supported = file.robots
+        if supported is not None and robot.name not in supported:
+            where = ("robots",) if override is not None else ("robot",)
+            given = f"--robot {override}" if override is not None else f"robot '{robot.name}'"
+            kind = "robot file" if robot.path else "robot"
+            raise self._error(
+                where,
+                f"{given}: this mission fits only {', '.join(supported)} (robots:), not the "
+                f"{kind} '{robot.name}'",
+            )
+        return robot
 
     def _locations(
         self, file: MissionFile, robot: RobotInfo, world: World | None
