@@ -63,13 +63,13 @@ def polygon_problem(points: Sequence[Point]) -> str | None:
     """Why ``points`` is not a usable zone (fewer than 3 points, no area, crossing edges)."""
     if len(points) < 3:
         return f"a polygon needs at least 3 points, got {len(points)}"
-    if abs(signed_area(points)) < 1e-9:
-        return "the polygon has no area (its points lie on one line)"
     edges = list(zip(points, [*points[1:], points[0]], strict=True))
     for (i, a), (j, b) in itertools.combinations(enumerate(edges), 2):
         neighbours = j == i + 1 or (i == 0 and j == len(edges) - 1)
         if not neighbours and _segments_cross(*a, *b):
             return f"the polygon's edges {i + 1} and {j + 1} cross; list the points in order"
+    if abs(signed_area(points)) < 1e-9:
+        return "the polygon has no area (its points lie on one line)"
     return None
 
 
