@@ -71,7 +71,7 @@ NODE_PARAMETERS: dict[str, tuple[str, str]] = {
     "source_timeout": (NUMBER, "s a source's data stays valid; older data stops the robot"),
     "base_shift_correction": (BOOLEAN, "move source points by the robot's motion since taken"),
     "stop_pub_timeout": (NUMBER, "s after a stop when zero commands cease to be published"),
-    "state_topic": (STRING, "topic of the CollisionMonitorState (recorded)"),
+    "state_topic": (STRING, "no effect: the run's trace records each CollisionMonitorState"),
     "base_frame_id": (STRING, "no effect (base_footprint)"),
     "odom_frame_id": (STRING, "no effect (odom)"),
     "cmd_vel_in_topic": (STRING, "no effect: every command to the base passes"),
@@ -103,7 +103,7 @@ POLYGON_PARAMETERS: dict[str, tuple[str, str]] = {
     "footprint_topic": (STRING, "no effect: the robot's footprint is the costmap's"),
     "polygon_sub_topic": (STRING, "not supported: give points"),
     "polygon_subscribe_transient_local": (BOOLEAN, "no effect"),
-    "visualize": (BOOLEAN, "no effect: recordings hold the state"),
+    "visualize": (BOOLEAN, "no effect: the run's trace records the state"),
     "polygon_pub_topic": (STRING, "no effect"),
 }
 VELOCITY_SUBPOLYGON_PARAMETERS: dict[str, tuple[str, str]] = {

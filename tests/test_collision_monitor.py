@@ -326,3 +326,33 @@ def test_state_changes_are_kept_with_their_sim_time() -> None:
     ]
     cm.close()
     assert lidar.subscribers == []
+
+
+def test_a_velocity_polygon_takes_the_sub_polygon_the_command_falls_in() -> None:
+    zone = {
+        "type": "velocity_polygon",
+        "action_type": "stop",
+        "velocity_polygons": ["rotation", "forward"],
+        "rotation": {
+            "points": "[[0.15, 0.15], [0.15, -0.15], [-0.15, -0.15], [-0.15, 0.15]]",
+            "linear_min": 0.0,
+            "linear_max": 0.05,
+            "theta_min": -1.0,
+            "theta_max": 1.0,
+        },
+        "forward": {
+            "points": "[[0.5, 0.2], [0.5, -0.2], [0.0, -0.2], [0.0, 0.2]]",
+            "linear_min": 0.05,
+            "linear_max": 0.3,
+            "theta_min": -1.0,
+            "theta_max": 1.0,
+        },
+    }
+    cm, (_, base, lidar) = monitor({"VelocityPolygonStop": zone})
+    lidar.publish(wall_at(0.4))
+    cm.base.command(0.02, 0.5)  # turning: the small square, the wall is outside
+    assert base.sent[-1] == (0.02, 0.5)
+    cm.base.command(0.2, 0.0)  # driving: the long box ahead holds the wall
+    assert base.sent[-1] == (0.0, 0.0)
+    cm.base.command(0.5, 0.0)  # in no range: the last one chosen stays
+    assert base.sent[-1] == (0.0, 0.0)
