@@ -10,7 +10,7 @@ run passes; a kernel they do not reach is compiled by the first run that needs i
 
     python -m baobab.missions.run.kernel_warmup                 # every bundled mission
     python -m baobab.missions.run.kernel_warmup --arm           # the arm's (--mobile: the rest)
-    python -m baobab.missions.run.kernel_warmup panda_pick      # only these
+    python -m baobab.missions.run.kernel_warmup cafe_delivery   # only these
 """
 
 from __future__ import annotations
@@ -21,13 +21,16 @@ from collections.abc import Sequence
 from baobab.missions.language.bundled_missions import bundled_missions, resolve_mission
 from baobab.missions.language.loader import load_mission
 
-ARM_MISSIONS = ("panda_pick",)
-"""The bundled missions of the arm: their kernels share no module with the mobile ones."""
 
-
-def mobile_missions() -> list[str]:
-    """The bundled missions of the mobile robot."""
-    return [name for name in bundled_missions() if name not in ARM_MISSIONS]
+def missions_by_base() -> tuple[list[str], list[str]]:
+    """The bundled missions of mobile robots, and those of arms (their robot's registry entry
+    says which): the two share no kernel module, so they warm in two processes."""
+    mobile: list[str] = []
+    arm: list[str] = []
+    for name in bundled_missions():
+        robot = load_mission(resolve_mission(name)).robot
+        (mobile if robot.mobile else arm).append(name)
+    return mobile, arm
 
 
 def warm_kernels(names: Sequence[str]) -> list[str]:
@@ -48,7 +51,8 @@ def warm_kernels(names: Sequence[str]) -> list[str]:
 def main(argv: Sequence[str] | None = None) -> int:
     """Warm the kernels of the named bundled missions (default: all); print how each ended."""
     names = list(sys.argv[1:] if argv is None else argv) or list(bundled_missions())
-    groups = {"--arm": list(ARM_MISSIONS), "--mobile": mobile_missions()}
+    mobile, arm = missions_by_base()
+    groups = {"--arm": arm, "--mobile": mobile}
     names = [name for given in names for name in groups.get(given, [given])]
     for line in warm_kernels(names):
         print(line, flush=True)
