@@ -100,37 +100,35 @@ class Zone:
         return self.active
 
     def collision_time(self, points: np.ndarray, linear: float, angular: float) -> float | None:
-        """Time (s) until ``min_points`` of ``points`` (``(N, 2)``, m) fall inside the zone as
-        the robot keeps the command ``(linear, angular)`` (m/s, rad/s), or None within
-        ``time_before_collision``; 0 when they are inside already.
+        """Nav2's ``Polygon::getCollisionTime``: the time (s) before ``min_points`` of
+        ``points`` (``(N, 2)``, m) fall inside the zone as the robot keeps the command
+        ``(linear, angular)`` (m/s, rad/s), or None within ``time_before_collision``.
 
-        The footprint is moved ahead in steps of ``simulation_time_step`` along the exact
-        unicycle arc; the time is that of the first step whose pose collides (Nav2 reports the
-        step before it, one step earlier).
+        The footprint is moved ahead in steps of ``simulation_time_step`` as Nav2's
+        ``projectState`` moves it (each step along the velocity turned by the yaw so far); as
+        in Nav2, the time is the step's start: 0 when the first step collides.
         """
         params = self.params
-        if self.count_inside(points) >= params.min_points:
-            return 0.0
         if len(points) == 0 or self.shape is None:
             return None
         dt = params.simulation_time_step
-        times = dt * np.arange(1, math.floor(params.time_before_collision / dt + 1e-9) + 1)
-        x, y, yaw = _arc(linear, angular, times)
+        steps = math.floor(params.time_before_collision / dt + 1e-9)
+        x, y, yaw = _projected(linear, angular, dt, steps)
         cos, sin = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
         dx, dy = points[:, 0][None, :] - x[:, None], points[:, 1][None, :] - y[:, None]
         local_x, local_y = cos * dx + sin * dy, -sin * dx + cos * dy
         counts = np.count_nonzero(self.shape.inside(local_x, local_y), axis=1)
         hits = np.flatnonzero(counts >= params.min_points)
-        return float(times[hits[0]]) if hits.size else None
+        return float(hits[0] * dt) if hits.size else None
 
 
-def _arc(linear: float, angular: float, times: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Poses (m, m, rad) after ``times`` (s) of a constant unicycle twist, from the origin."""
-    yaw = angular * times
-    if abs(angular) < 1e-9:
-        return linear * times, np.zeros_like(times), yaw
-    radius = linear / angular
-    return radius * np.sin(yaw), radius * (1.0 - np.cos(yaw)), yaw
+def _projected(linear: float, angular: float, dt: float, steps: int) -> tuple[np.ndarray, ...]:
+    """Poses (m, m, rad) after 1..``steps`` steps of ``dt`` s of Nav2's ``projectState`` from
+    the origin: each step moves by the velocity turned through the yaw before it."""
+    turned = angular * dt * np.arange(steps)
+    x = linear * dt * np.cumsum(np.cos(turned))
+    y = linear * dt * np.cumsum(np.sin(turned))
+    return x, y, angular * dt * np.arange(1, steps + 1)
 
 
 def _in_range(sub: VelocityPolygon, linear: float, angular: float, holonomic: bool) -> bool:

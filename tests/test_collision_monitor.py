@@ -183,17 +183,29 @@ def test_limit_caps_speeds_and_keeps_the_curvature() -> None:
 def test_approach_scales_by_the_time_to_collision() -> None:
     zone = {"type": "polygon", "action_type": "approach", "time_before_collision": 2.0}
     cm, (_, base, lidar) = monitor({"FootprintApproach": zone})
-    # a wall 0.31 m ahead: the footprint (radius 0.105) reaches it after 0.205 m, at 0.2 m/s
-    # after 1.025 s: the first projected step that puts min_points inside is at 1.1 s
+    # a wall 0.31 m ahead: at 0.2 m/s the footprint (radius 0.105) holds it after the 11th
+    # step of 0.1 s; as Nav2, the time before the collision is that step's start, 1.0 s
     lidar.publish(wall_at(0.31, count=8, half_width=0.02))
     cm.base.command(0.2, 0.0)
-    assert base.sent[-1] == pytest.approx((0.2 * 1.1 / 2.0, 0.0))
+    assert base.sent[-1] == pytest.approx((0.2 * 1.0 / 2.0, 0.0))
     assert cm.state.action_type is ActionType.APPROACH
     cm.base.command(0.05, 0.0)  # slow enough: no collision within 2 s
     assert base.sent[-1] == (0.05, 0.0)
     lidar.publish(wall_at(0.1, count=8, half_width=0.02))  # inside the footprint: stop
     cm.base.command(0.05, 0.0)
     assert base.sent[-1] == (0.0, 0.0)
+    cm.base.command(-0.05, 0.0)  # backing away from it: the first step is clear, as in Nav2
+    assert base.sent[-1] == (-0.05, 0.0)
+
+
+def test_approach_follows_a_turning_command() -> None:
+    zone = {"type": "circle", "radius": 0.105, "action_type": "approach"}
+    cm, (_, base, lidar) = monitor({"FootprintApproach": zone})
+    lidar.publish(wall_at(0.45, count=8, half_width=0.02))
+    cm.base.command(0.2, 0.0)  # straight at the wall: it comes within 2 s
+    assert base.sent[-1][0] < 0.2
+    cm.base.command(0.2, 1.5)  # turning away on a 0.13 m radius: it never comes
+    assert base.sent[-1] == (0.2, 1.5)
 
 
 def test_the_safest_command_wins_and_a_stop_ends_the_evaluation() -> None:
