@@ -17,7 +17,8 @@ as Nav2 processes each incoming message:
 3. the result goes to the base; once it has been zero for ``stop_pub_timeout`` s, zeros are
    no longer sent (the base holds zero).
 
-``toggle(enable)`` is Nav2's ``collision_monitor/toggle`` service (``nav2_msgs/Toggle``).
+``toggle(enable)`` is Nav2's ``collision_monitor/toggle`` service (``nav2_msgs/Toggle``); a
+navigation server built on :attr:`CollisionMonitor.base` offers it (:meth:`CollisionMonitor.serve`).
 Every change of the monitor's state (action type, zone, enabled) is kept in :attr:`changes`
 with its sim time, for traces and recordings.
 """
@@ -25,7 +26,9 @@ with its sim time, for traces and recordings.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -178,6 +181,10 @@ class CollisionMonitor:
         self._stopped_since = 0.0
 
     # -- the toggle service -------------------------------------------------------------------
+
+    def serve(self, services: dict[str, Callable[..., Any]]) -> None:
+        """Offer :meth:`toggle` in ``services`` (a navigation server's) as Nav2 names it."""
+        services[COLLISION_MONITOR_TOGGLE] = self.toggle
 
     def toggle(self, enable: bool) -> tuple[bool, str]:
         """``collision_monitor/toggle``: zones on (True) or off; ``(success, message)``."""

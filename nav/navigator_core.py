@@ -25,6 +25,7 @@ from baobab.nav.navigator_robot import (
     NavigatorSetupError,
     SimulatedRobot,
     build_simulated_robot,
+    default_start,
     navigator_robot,
 )
 from baobab.nav.navigator_time import NavigatorWaits
@@ -66,7 +67,8 @@ class NavigatorCore(Node):
         robot: a bundled mobile robot's name (``baobab list``), a robot file's path, or a
             registry entry; None: what :func:`~baobab.nav.defaults.navigator_defaults` says
             (``baobab nav2 --robot``), else the registry's default mobile robot.
-        start: the robot's map-frame start pose; the world's default spawn when None.
+        start: the robot's map-frame start pose; the world's default spawn when None (on a
+            map without one, the map origin: :func:`~baobab.nav.navigator_robot.default_start`).
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
         collision_monitor: Nav2's ``collision_monitor`` parameters (a mapping with Nav2's
@@ -111,7 +113,8 @@ class NavigatorCore(Node):
         self._seed = settings.seed
         self._time_offset = 0.0
         self._world = loaded
-        self._rig, self._server = self._build(loaded, settings.start or loaded.spawn)
+        start = settings.start or default_start(loaded, self._robot.mobile_facts.footprint)
+        self._rig, self._server = self._build(loaded, start)
         super().__init__(node_name, namespace=namespace)
         self._sim_clock = Clock(clock_type=ClockType.ROS_TIME, source=self._sim_seconds)
         self._pacer = RealTimePacer() if settings.realtime else None
@@ -131,13 +134,12 @@ class NavigatorCore(Node):
         monitor_params = self._monitor_params(world, self._robot)
         rig = build_simulated_robot(self._robot, world, start, self._seed)
         params = navigation_params(self._robot)
-        monitor = None
-        if monitor_params is not None:
-            footprint = robot_footprint(self._robot)
-            monitor = CollisionMonitor(rig.sim, rig.base, rig.lidar, monitor_params, footprint)
-        server = build_navigation(
-            rig.sim, rig.base, rig.lidar, world, params=params, collision_monitor=monitor
-        )
+        if monitor_params is None:
+            return rig, build_navigation(rig.sim, rig.base, rig.lidar, world, params=params)
+        footprint = robot_footprint(self._robot)
+        monitor = CollisionMonitor(rig.sim, rig.base, rig.lidar, monitor_params, footprint)
+        server = build_navigation(rig.sim, monitor.base, rig.lidar, world, params=params)
+        monitor.serve(server.services)
         return rig, server
 
     def _monitor_params(self, world: World, robot: RobotInfo) -> CollisionMonitorParams | None:

@@ -31,6 +31,7 @@ def test_the_expected_missions_are_bundled() -> None:
         "waypoint_patrol_cancel",
         "town_nav_to_pose",
         "walls_collision_monitor",
+        "office_patrol",
     }
 
 

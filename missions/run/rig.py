@@ -32,6 +32,7 @@ from baobab.missions.run.metrics import (
 )
 from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
+from baobab.missions.run.zone_probe import ZoneProbe
 from baobab.robots.catalog import RobotInfo
 from baobab.robots.diff_drive.controller_tasks import BaseControllerServer
 from baobab.robots.diff_drive.robot import MobileRobot
@@ -135,9 +136,10 @@ def build_navigation(
     from baobab.nav.server import build_navigation as build_server
 
     params = navigation_params(info)
-    server = build_server(
-        sim, robot.base, robot.lidar, world, params=params, collision_monitor=monitor
-    )
+    base = robot.base if monitor is None else monitor.base
+    server = build_server(sim, base, robot.lidar, world, params=params)
+    if monitor is not None:
+        monitor.serve(server.services)
     teleop.subscribe(lambda twist: server.teleop_command(*(twist or (0.0, 0.0))))
     return server
 
@@ -283,6 +285,9 @@ class MobileRig:
         }
         self.locations = locations
         self.probe = MobileProbe(sim, self.robot.base, locations)
+        self.zones = ZoneProbe(
+            sim, self.robot.base, world, mission.robot.footprint_radius, self._top_speed()
+        )
         self.metrics = self._register_metrics()
 
     def _register_metrics(self) -> MetricRegistry:
@@ -291,6 +296,7 @@ class MobileRig:
         metrics = MetricRegistry()
         metrics.add("sim_time", lambda: sim.time, unit="s", description="run length")
         self.probe.register(metrics)
+        self.zones.register(metrics)
         metrics.add(
             "number_of_recoveries",
             self._recoveries,
@@ -317,6 +323,13 @@ class MobileRig:
         )
         register_collision_monitor_metrics(metrics, lambda: self.monitor)
         return metrics
+
+    def _top_speed(self) -> float:
+        """The speed (m/s) a speed limit in percent is a part of: the controller's
+        ``desired_linear_vel``, or the robot's top speed without navigation."""
+        if self.navigation is not None:
+            return self.navigation.follower.controller.params.desired_linear_vel
+        return self.mission.robot.max_linear_speed
 
     def _recoveries(self) -> int:
         return 0 if self.navigation is None else self.navigation.metrics.number_of_recoveries
@@ -372,6 +385,7 @@ class MobileRig:
             leave_points=list(bug2.leave_points) if bug2 else [],
             min_clearance_at=None if clearance_at is None else clearance_at[1:],
             footprints=[self._footprint_at(*probe.start), self._footprint_at(*self._pose())],
+            zones=self.zones.zone_images(),
         )
         self._navigation_layers(plot)
         return plot
