@@ -84,6 +84,21 @@ class InstantCall(py_trees.behaviour.Behaviour):
         return Status.SUCCESS
 
 
+class ServiceCall(py_trees.behaviour.Behaviour):
+    """Call a service once per activation: SUCCESS when it reports success, else FAILURE
+    with its message as the feedback message (BT.CPP's ``RosServiceNode``)."""
+
+    def __init__(self, name: str, call: Callable[[], tuple[bool, str]]) -> None:
+        super().__init__(name=name)
+        self._call = call
+
+    def update(self) -> Status:
+        """Make the call; its success decides the status."""
+        success, message = self._call()
+        self.feedback_message = message
+        return Status.SUCCESS if success else Status.FAILURE
+
+
 class Constant(py_trees.behaviour.Behaviour):
     """Return the same status on every tick (BT.CPP's AlwaysSuccess / AlwaysFailure)."""
 

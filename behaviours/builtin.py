@@ -11,6 +11,7 @@ from types import ModuleType
 
 from baobab.behaviours import (
     arm_nodes,
+    collision_monitor_nodes,
     common_nodes,
     control_nodes,
     dock_nodes,
@@ -27,6 +28,7 @@ NODE_MODULES: tuple[ModuleType, ...] = (
     navigation_nodes,
     dock_nodes,
     follow_nodes,
+    collision_monitor_nodes,
     progress_nodes,
     arm_nodes,
     ros_nodes,

@@ -15,7 +15,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Protocol
 
-from baobab.robots.catalog import ARM, BASE_CONTROLLERS, NAVIGATION, ROS_NODES, TELEOP
+from baobab.robots.catalog import (
+    ARM,
+    BASE_CONTROLLERS,
+    COLLISION_MONITOR,
+    NAVIGATION,
+    ROS_NODES,
+    TELEOP,
+)
 from baobab.sim.errors import BaobabError
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D
@@ -23,6 +30,7 @@ from baobab.sim.world import Pose2D
 __all__ = [
     "ARM",
     "BASE_CONTROLLERS",
+    "COLLISION_MONITOR",
     "NAVIGATION",
     "PORT_CAPABILITIES",
     "ROS_NODES",
@@ -32,11 +40,12 @@ __all__ = [
     "Capabilities",
     "CapabilityError",
     "Clock",
+    "CollisionMonitorPort",
     "NavigationPort",
     "RosNodesPort",
 ]
 
-PORT_CAPABILITIES = (NAVIGATION, BASE_CONTROLLERS, ARM, ROS_NODES)
+PORT_CAPABILITIES = (NAVIGATION, BASE_CONTROLLERS, ARM, ROS_NODES, COLLISION_MONITOR)
 """Capabilities that behaviour-tree leaves use through a port (teleop is driven by events)."""
 
 
@@ -159,6 +168,14 @@ class RosNodesPort(Protocol):
         ...
 
 
+class CollisionMonitorPort(Protocol):
+    """Nav2's collision monitor on the base's commands."""
+
+    def toggle(self, enable: bool) -> tuple[bool, str]:
+        """Nav2's ``collision_monitor/toggle``: zones on or off; ``(success, message)``."""
+        ...
+
+
 @dataclass
 class Capabilities:
     """What a compiled tree may use: the sim clock and one port per capability server.
@@ -171,6 +188,7 @@ class Capabilities:
     base_controllers: BaseControllerPort | None = None
     arm: ArmPort | None = None
     ros_nodes: RosNodesPort | None = None
+    collision_monitor: CollisionMonitorPort | None = None
 
     def provides(self, capability: str) -> bool:
         """True when the port for ``capability`` (e.g. ``"navigation"``) is present."""
@@ -201,3 +219,9 @@ class Capabilities:
         if self.ros_nodes is None:
             raise CapabilityError("this run provides no 'ros_nodes' capability")
         return self.ros_nodes
+
+    def collision_monitor_port(self) -> CollisionMonitorPort:
+        """The collision monitor port, or :class:`CapabilityError` when the run has none."""
+        if self.collision_monitor is None:
+            raise CapabilityError("this run provides no 'collision_monitor' capability")
+        return self.collision_monitor

@@ -13,13 +13,18 @@ from __future__ import annotations
 import dataclasses
 import enum
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path as FilePath
+from typing import Any
 
 from baobab.nav import msgs
+from baobab.nav.collision_monitor import CollisionMonitor
+from baobab.nav.collision_monitor_config import layered_collision_monitor, robot_footprint
+from baobab.nav.collision_monitor_params import CollisionMonitorConfigError, CollisionMonitorParams
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
 from baobab.nav.nav2_configuration import Nav2Configuration, load_nav2_params
 from baobab.nav.navigator_robot import (
+    NavigatorSetupError,
     SimulatedRobot,
     build_simulated_robot,
     default_start,
@@ -73,6 +78,10 @@ class NavigatorCore(Node):
             are logged once as a warning.
         nav2_substitute: run the stated substitute of each plugin baobab does not have
             (``--nav2-substitute``) instead of refusing the file.
+        collision_monitor: Nav2's ``collision_monitor`` parameters (a mapping with Nav2's
+            names, :mod:`baobab.nav.collision_monitor_params`); they override the world's
+            ``collision_monitor:`` block, parameter by parameter. With neither, the robot has
+            no collision monitor.
 
     ``world``, ``robot``, ``start``, ``seed``, ``realtime``, ``params_file`` and
     ``nav2_substitute`` left at None take the values of
@@ -85,7 +94,8 @@ class NavigatorCore(Node):
     Raises:
         Nav2ParamsError: the parameter file cannot be used (located message).
         WorldError: the world cannot be loaded (located message).
-        NavigatorSetupError: an unknown robot, or a start pose that is not free.
+        NavigatorSetupError: an unknown robot, a start pose that is not free, or collision
+            monitor parameters that are not valid.
         RobotFileError: a robot file that cannot be used (located message).
         TypeError: an argument of the wrong type.
     """
@@ -102,6 +112,7 @@ class NavigatorCore(Node):
         realtime: bool | None = None,
         params_file: str | FilePath | None = None,
         nav2_substitute: bool | None = None,
+        collision_monitor: Mapping[str, Any] | None = None,
     ) -> None:
         defaults = navigator_defaults()
         settings = NavigatorDefaults(
@@ -121,6 +132,7 @@ class NavigatorCore(Node):
             substitute = defaults.nav2_substitute if nav2_substitute is None else nav2_substitute
             self.nav2_configuration = load_nav2_params(params_file, base, substitute=substitute)
             self._params = self.nav2_configuration.params
+        self._monitor_parameters = collision_monitor
         self._seed = settings.seed
         self._time_offset = 0.0
         self._world = loaded
@@ -147,8 +159,29 @@ class NavigatorCore(Node):
     def _build(self, world: World, start: Pose2D) -> tuple[SimulatedRobot, NavigationServer]:
         if self.nav2_configuration is not None:
             world = self.nav2_configuration.filtered(world)
+        monitor_params = self._monitor_params(world, self._robot)
         rig = build_simulated_robot(self._robot, world, start, self._seed)
-        return rig, build_navigation(rig.sim, rig.base, rig.lidar, world, params=self._params)
+        params = self._params
+        if monitor_params is None:
+            return rig, build_navigation(rig.sim, rig.base, rig.lidar, world, params=params)
+        footprint = robot_footprint(self._robot)
+        monitor = CollisionMonitor(rig.sim, rig.base, rig.lidar, monitor_params, footprint)
+        server = build_navigation(rig.sim, monitor.base, rig.lidar, world, params=params)
+        monitor.serve(server.services)
+        return rig, server
+
+    def _monitor_params(self, world: World, robot: RobotInfo) -> CollisionMonitorParams | None:
+        """The collision monitor of ``world``'s and the constructor's parameters.
+
+        Raises:
+            NavigatorSetupError: naming the parameter that is wrong and where it was given.
+        """
+        layers = [world.collision_monitor, self._monitor_parameters]
+        try:
+            return layered_collision_monitor(layers, robot_footprint(robot))
+        except CollisionMonitorConfigError as exc:
+            where = (f"world '{world.name}': ", "")[exc.layer]
+            raise NavigatorSetupError(where + exc.describe()) from None
 
     def _sim_seconds(self) -> float:
         return self._time_offset + self._rig.sim.time

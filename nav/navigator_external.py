@@ -3,11 +3,12 @@
 Each call builds the action's Goal message exactly as Nav2's ``BasicNavigator`` does and sends
 it to the server registered under the action's name in
 ``NavigationServer.action_servers`` (:class:`~baobab.nav.interfaces.ActionServer`);
-``toggleCollisionMonitor`` calls ``NavigationServer.services['collision_monitor/toggle']``.
-baobab registers none of these servers yet. Where Nav2 would wait for ever for a server that
-is not there, the call fails at once and cleanly: the send is rejected (None, the action's
-UNKNOWN code and the reason in ``getTaskError()``), ``getRoute`` returns None, and
-``toggleCollisionMonitor`` logs the error. A server plugged in later needs no change here.
+``toggleCollisionMonitor`` calls ``NavigationServer.services['collision_monitor/toggle']``,
+which a navigator built with a collision monitor serves (:mod:`baobab.nav.collision_monitor`).
+Where Nav2 would wait for ever for a server that is not there, the call fails at once and
+cleanly: the send is rejected (None, the action's UNKNOWN code and the reason in
+``getTaskError()``), ``getRoute`` returns None, and ``toggleCollisionMonitor`` logs the error.
+A server plugged in later needs no change here.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from baobab.nav import msgs
+from baobab.nav.collision_monitor import COLLISION_MONITOR_TOGGLE
 from baobab.nav.errors import GoalRejectedError
 from baobab.nav.future_server_errors import ComputeRouteError
 from baobab.nav.interfaces import RESULT_KEY
@@ -29,8 +31,6 @@ from baobab.sim.tasks import TaskHandle, TaskStatus
 
 ROUTE_PLANNING_LIMIT = 60.0
 """Sim seconds ``getRoute`` waits for the route server before giving up (TIMEOUT)."""
-COLLISION_MONITOR_TOGGLE = "collision_monitor/toggle"
-"""The service ``toggleCollisionMonitor`` calls."""
 
 _SERVERS = {
     "follow_gps_waypoints": ("FollowGPSWaypoints", "GPS waypoint follower"),
@@ -169,12 +169,17 @@ class NavigatorExternal(NavigatorTasks):
     # -- collision monitor --------------------------------------------------------------------
 
     def toggleCollisionMonitor(self, enable: bool) -> None:
-        """Turn the collision monitor on or off (Rolling); needs a collision monitor."""
+        """Turn the collision monitor's zones on or off (Rolling); needs a collision monitor.
+
+        Off, commands pass unchanged and the controller's own collision checks act alone;
+        stale sensor data still stops the robot (Nav2's ``Toggle`` service).
+        """
         service = self._live_server().services.get(COLLISION_MONITOR_TOGGLE)
         if service is None:
             self.error(
                 f"Toggle collision monitor service '{COLLISION_MONITOR_TOGGLE}' not available: "
-                "baobab has no collision monitor"
+                "this robot has no collision monitor (give the navigator collision_monitor "
+                "parameters, or its world a collision_monitor: block)"
             )
             return
         success, reason = service(bool(enable))

@@ -44,7 +44,13 @@ ARM = "arm"
 GRIPPER = "gripper"
 """A parallel gripper (driven through the ``arm`` port)."""
 
-MOBILE_CAPABILITIES = frozenset({BASE, LIDAR, NAVIGATION, BASE_CONTROLLERS, TELEOP, ROS_NODES})
+COLLISION_MONITOR = "collision_monitor"
+"""Nav2's collision monitor on the base's commands, when a ``collision_monitor:`` block
+configures one (:mod:`baobab.nav.collision_monitor`)."""
+
+MOBILE_CAPABILITIES = frozenset(
+    {BASE, LIDAR, NAVIGATION, BASE_CONTROLLERS, TELEOP, ROS_NODES, COLLISION_MONITOR}
+)
 """What every differential-drive robot with a lidar provides."""
 
 

@@ -17,7 +17,7 @@ import hashlib
 import math
 from functools import cached_property
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 from pydantic import (
     ConfigDict,
@@ -166,6 +166,11 @@ class World(_Strict):
     moving_objects: list[MovingObject] = Field(default_factory=empty_list)
     """Scripted objects that walk about (:mod:`baobab.sim.moving_objects`)."""
     filters: FilterSettings | None = None
+    collision_monitor: dict[str, Any] | None = Field(
+        default=None,
+        description="parameters of the robot's collision monitor in this world, kept as "
+        "written: the navigation stack reads them (baobab.nav.collision_monitor_params)",
+    )
     _maps: WorldMaps = PrivateAttr(default_factory=WorldMaps)
 
     @model_validator(mode="after")

@@ -116,6 +116,13 @@ tree:
               params: {rate: 2.0, frame: odom, gains: [1.0, 2.5]}
               node_name: talker
           - wait: 0.01
+    - toggle_collision_monitor: false
+    - toggle_collision_monitor: {enable: true}
+collision_monitor:
+  polygons: [PolygonStop]
+  PolygonStop: {type: circle, radius: 0.3, action_type: stop}
+  observation_sources: [scan]
+  scan: {type: scan, topic: /scan}
 timeout: 100
 """
 

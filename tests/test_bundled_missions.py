@@ -32,6 +32,7 @@ def test_the_expected_missions_are_bundled() -> None:
         "town_nav_to_pose",
         "lobby_dock",
         "lobby_follow",
+        "walls_collision_monitor",
         "office_patrol",
     }
 

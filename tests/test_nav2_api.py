@@ -147,6 +147,7 @@ def test_the_constructor_takes_nav2s_arguments_and_baobabs_keyword_only() -> Non
         "realtime",
         "params_file",
         "nav2_substitute",
+        "collision_monitor",
     ]
 
 

@@ -57,6 +57,9 @@ def mission_json_schema(registry: Registry | None = None) -> dict[str, Any]:
         "pattern": r"\$\{[A-Za-z_][A-Za-z0-9_]*\}",
         "description": "text with ${name} inside",
     }
+    from baobab.nav.collision_monitor_params import parameters_schema
+
+    schema["properties"]["collision_monitor"] = parameters_schema()
     body = _allow_param_refs(_resolve_markers(schema))
     return {
         "$schema": SCHEMA_DIALECT,

@@ -5,15 +5,16 @@ Order of work (each step's errors come before the next step's):
 1. the located YAML loader (syntax, duplicate keys, aliases, nesting, size, NaN), unknown
    top-level keys (a ``# yaml-language-server: $schema=...`` comment is optional, for editors);
 2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
-   timeout and expect (and a refusal of ``${`` anywhere else);
+   noise, collision_monitor, timeout and expect (and a refusal of ``${`` anywhere else);
 3. the top-level model (types, events, expectations);
 4. robot (a bundled name or a robot file inside the mission's folder, or the ``--robot``
    override; one of ``robots:`` when the mission lists the robots it fits), world (a bundled
    name or a file inside the mission's folder: a world file or a map_server map YAML; or
    ``--world``), the mission's costmap filter masks, and locations (the world's spawns and
    locations, then the mission's, which win);
-5. start pose, the tree (node types, capabilities, parameters, goal poses in free space),
-   every subtree body, then the cross-checks of events and expectations.
+5. start pose, the collision monitor (the world's and the mission's blocks), the tree (node
+   types, capabilities, parameters, goal poses in free space), every subtree body, then the
+   cross-checks of events and expectations.
 """
 
 from __future__ import annotations
@@ -28,6 +29,10 @@ from pydantic import TypeAdapter, ValidationError
 from baobab.behaviours.builtin import default_registry
 from baobab.behaviours.poses import MissionScope, Pose
 from baobab.behaviours.registry import Registry
+from baobab.missions.language.collision_monitor_block import (
+    check_toggles,
+    mission_collision_monitor,
+)
 from baobab.missions.language.cross_checks import MissionChecks
 from baobab.missions.language.errors import MissionError, describe_validation_error, located
 from baobab.missions.language.models import (
@@ -62,6 +67,7 @@ from baobab.sim.yaml_source import (
 )
 
 if TYPE_CHECKING:
+    from baobab.nav.collision_monitor_params import CollisionMonitorParams
     from baobab.nav.nav2_params_file import Nav2ParamsFile
 
 SCHEMA_HEADER = "# yaml-language-server: $schema="
@@ -99,6 +105,8 @@ class Mission:
             (``nav2_params:`` or ``--nav2-params``), read and checked; None without one.
         nav2_substitute: run the stated substitutes of plugins baobab does not have.
         nav2_warning: the one warning about the file's parameters baobab does not use.
+        collision_monitor: the robot's collision monitor (the robot's, the world's and the
+            mission's ``collision_monitor:`` blocks merged), or None without one.
     """
 
     path: Path
@@ -123,6 +131,7 @@ class Mission:
     nav2_params: Nav2ParamsFile | None = None
     nav2_substitute: bool = False
     nav2_warning: str | None = None
+    collision_monitor: CollisionMonitorParams | None = None
 
 
 def load_mission(
@@ -236,8 +245,12 @@ class _Loader:
             robot, world, self._locations(file, robot, world), self.path.parent.resolve()
         )
         start = self._start(file.start, scope, world)
+        monitor = mission_collision_monitor(
+            self.document, file.collision_monitor, robot, world, world_name, self.origins
+        )
         parser = TreeParser(self.document, self.registry, scope, file.subtrees, self.origins)
         tree = parser.parse(file.tree, ("tree",))
+        check_toggles(self.document, tree, monitor is not None)
         shapes = {name: parser.check_template(name, spec) for name, spec in file.subtrees.items()}
         checks = MissionChecks(self.document, scope, self.origins)
         checks.events(file.events, file.timeout)
@@ -265,6 +278,7 @@ class _Loader:
             document=self.document,
             noise=file.noise,
             nav2_params=None if nav2_params is None else _read_nav2(nav2_params),
+            collision_monitor=monitor,
         )
 
     def _top_level(self) -> dict[str, Any]:

@@ -24,6 +24,8 @@ MOBILE_METRICS = (
     "teleop_slowed_cycles",
     "teleop_max_speed",
     "teleop_costmap_clears",
+    "collision_monitor_stops",
+    "collision_monitor_time",
 )
 """The numeric metrics of a mobile robot's run (``baobab.missions.run.rig.MobileRig``)."""
 FILTER_METRICS = {"min_keepout_clearance": "keepout", "speed_limit_excess": "speed"}

@@ -444,10 +444,23 @@ class MissionFile(_Strict):
     subtrees: dict[ParamName, SubtreeSpec] = Field(default_factory=dict)
     events: list[Event] = Field(default_factory=empty_list)
     noise: Noise = Field(default_factory=Noise, description="sensor noise, off by default")
+    collision_monitor: dict[str, Any] | None = Field(
+        default=None,
+        description="Nav2's collision monitor (its parameters, Nav2's names); merged over the "
+        "robot's and the world's",
+    )
     timeout: Positive = Field(default=DEFAULT_TIMEOUT, description="s of sim time")
     expect: Expect | None = None
 
 
 TOP_LEVEL_KEYS = tuple(MissionFile.model_fields)
-SUBSTITUTED_SECTIONS = ("start", "tree", "events", "noise", "timeout", "expect")
+SUBSTITUTED_SECTIONS = (
+    "start",
+    "tree",
+    "events",
+    "noise",
+    "collision_monitor",
+    "timeout",
+    "expect",
+)
 """Top-level sections where ``${param}`` is replaced (subtrees use their own parameters)."""

@@ -130,3 +130,32 @@ def register_teleop_metrics(
         ("teleop_costmap_clears", "costmap_clears", "", "costmap clearings by assisted teleop"),
     ):
         metrics.add(metric, functools.partial(read, attribute), unit=unit, description=description)
+
+
+class MonitorTotals(Protocol):
+    """What the collision monitor counts (``baobab.nav.collision_monitor.CollisionMonitor``)."""
+
+    stops: int
+    acting_time: float
+
+
+def register_collision_monitor_metrics(
+    metrics: MetricRegistry, monitor: Callable[[], MonitorTotals | None]
+) -> None:
+    """Add the collision monitor metrics; ``monitor()`` is None when the robot has none (0)."""
+
+    def read(name: str) -> MetricValue:
+        found = monitor()
+        return 0 if found is None else getattr(found, name)
+
+    metrics.add(
+        "collision_monitor_stops",
+        functools.partial(read, "stops"),
+        description="times the collision monitor began to stop the robot",
+    )
+    metrics.add(
+        "collision_monitor_time",
+        functools.partial(read, "acting_time"),
+        unit="s",
+        description="sim time during which the collision monitor changed the commands",
+    )

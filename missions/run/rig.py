@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, Protocol
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any, Protocol, cast
 
 import numpy as np
 
@@ -24,7 +25,11 @@ from baobab.behaviours.poses import Pose
 from baobab.missions.language.loader import Mission
 from baobab.missions.run.arm_probes import ArmProbe, TrackingProbe
 from baobab.missions.run.event_targets import ObstacleSlots, TeleopChannel
-from baobab.missions.run.metrics import MetricRegistry, register_teleop_metrics
+from baobab.missions.run.metrics import (
+    MetricRegistry,
+    register_collision_monitor_metrics,
+    register_teleop_metrics,
+)
 from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
 from baobab.missions.run.zone_probe import ZoneProbe
@@ -38,8 +43,10 @@ from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
 
 if TYPE_CHECKING:
+    from baobab.nav.collision_monitor import CollisionMonitor, MonitorChange
     from baobab.nav.ros.mission_nodes import MissionNodes
     from baobab.nav.server import NavigationServer
+    from baobab.robots.diff_drive.base import DiffDriveBase
 
 ARM_CONTACT_NAME_PERIOD = 0.01
 """How often (s) the arm's contacts are looked at for the names of what it touched."""
@@ -70,6 +77,11 @@ class Rig(Protocol):
 
     def plot_data(self, title: str) -> PlotData:
         """What the run's plot shows."""
+        ...
+
+    def sim_records(self) -> list[tuple[float, str, dict[str, Any]]]:
+        """What happened inside the simulation since the last call, for the trace: (sim time
+        (s), record type, fields), in time order."""
         ...
 
 
@@ -117,10 +129,11 @@ def build_navigation(
     world: World,
     teleop: TeleopChannel,
     mission: Mission | None = None,
+    monitor: CollisionMonitor | None = None,
 ) -> NavigationServer:
     """The navigation server of the mobile robot ``info`` describes, with its settings (and the
     ``mission``'s Nav2 parameter file's on top, with or without substitutes), fed by teleop
-    events (imported only now)."""
+    events (imported only now), and driving through the collision monitor when there is one."""
     from baobab.nav.robot_params import navigation_params
     from baobab.nav.server import build_navigation as build_server
 
@@ -130,9 +143,35 @@ def build_navigation(
 
         substitute = mission.nav2_substitute
         params = configure_navigation(mission.nav2_params, params, substitute=substitute).params
-    server = build_server(sim, robot.base, robot.lidar, world, params=params)
+    base = robot.base if monitor is None else monitor.base
+    server = build_server(sim, base, robot.lidar, world, params=params)
+    if monitor is not None:
+        monitor.serve(server.services)
     teleop.subscribe(lambda twist: server.teleop_command(*(twist or (0.0, 0.0))))
     return server
+
+
+def _collision_monitor(
+    mission: Mission, sim: Simulation, robot: MobileRobot
+) -> CollisionMonitor | None:
+    """The robot's collision monitor when the mission configures one (imported only then)."""
+    if mission.collision_monitor is None:
+        return None
+    from baobab.nav.collision_monitor import CollisionMonitor
+    from baobab.nav.collision_monitor_config import robot_footprint
+
+    footprint = robot_footprint(mission.robot)
+    return CollisionMonitor(sim, robot.base, robot.lidar, mission.collision_monitor, footprint)
+
+
+def monitor_record(change: MonitorChange) -> dict[str, Any]:
+    """A monitor state change as trace and recording fields (Nav2's names)."""
+    state = change.state
+    return {
+        "action_type": state.action_type.name,
+        "polygon_name": state.polygon_name,
+        "enabled": state.enabled,
+    }
 
 
 class ClearCountingPort:
@@ -225,7 +264,14 @@ class MobileRig:
             world, mission.start, seed=seed, lidar_noise_std=mission.noise.lidar_std
         )
         self.moving_objects = start_moving_objects(self.sim, world)
-        self.controllers = BaseControllerServer(self.sim, self.robot.base, self.robot.lidar)
+        self.monitor = _collision_monitor(mission, self.sim, self.robot)
+        drive = self.robot.base if self.monitor is None else self.monitor.base
+        # the monitor's base takes the commands the drive takes (MobileBase): every driver
+        # below commands the base through it
+        self.controllers = BaseControllerServer(
+            self.sim, cast("DiffDriveBase", drive), self.robot.lidar
+        )
+        self._monitor_records = 0
         self.teleop: TeleopChannel | None = TeleopChannel()
         self.obstacles: ObstacleSlots | None = ObstacleSlots(self.sim)
         self.navigation: NavigationServer | None = None
@@ -235,7 +281,7 @@ class MobileRig:
         sim = self.sim
         if uses_capability(mission, NAVIGATION):
             self.navigation = build_navigation(
-                sim, self.robot, self.info, world, self.teleop, mission
+                sim, self.robot, self.info, world, self.teleop, mission, self.monitor
             )
             self.clear_counter = ClearCountingPort(self.navigation)
             port = self.clear_counter
@@ -245,12 +291,14 @@ class MobileRig:
             from baobab.nav.navigator_robot import simulated_robot
             from baobab.nav.ros.mission_nodes import MissionNodes
 
-            self.ros = MissionNodes(sim, mobile=simulated_robot(self.info, self.robot))
+            robot_on_topics = replace(simulated_robot(self.info, self.robot), base=drive)
+            self.ros = MissionNodes(sim, mobile=robot_on_topics)
         self.capabilities = Capabilities(
             clock=lambda: sim.time,
             navigation=port,
             base_controllers=self.controllers,
             ros_nodes=self.ros,
+            collision_monitor=self.monitor,
         )
         spawn_names = set(world.spawns) - set(world.locations)
         locations = {
@@ -263,34 +311,41 @@ class MobileRig:
         self.zones = ZoneProbe(
             sim, self.robot.base, world, mission.robot.footprint_radius, self._top_speed()
         )
-        self.metrics = MetricRegistry()
-        self.metrics.add("sim_time", lambda: sim.time, unit="s", description="run length")
-        self.probe.register(self.metrics)
-        self.zones.register(self.metrics)
-        self.metrics.add(
+        self.metrics = self._register_metrics()
+
+    def _register_metrics(self) -> MetricRegistry:
+        """The run's metrics (``metric_names.MOBILE_METRICS``), read from this rig."""
+        sim = self.sim
+        metrics = MetricRegistry()
+        metrics.add("sim_time", lambda: sim.time, unit="s", description="run length")
+        self.probe.register(metrics)
+        self.zones.register(metrics)
+        metrics.add(
             "number_of_recoveries",
             self._recoveries,
             description="recovery actions started by the navigation server",
         )
-        self.metrics.add(
+        metrics.add(
             "planned_path_length",
             self._planned_path_length,
             unit="m",
             description="sum of each navigation goal's first plan; null without one",
         )
-        self.metrics.add(
+        metrics.add(
             "costmap_clears",
             lambda: 0 if self.clear_counter is None else self.clear_counter.clears,
             description="costmap clearings by the mission's tree (not Nav2's recoveries)",
         )
-        self.metrics.add(
+        metrics.add(
             "replans",
             lambda: 0 if self.navigation is None else self.navigation.metrics.replans,
             description="paths planned after a goal's first",
         )
         register_teleop_metrics(
-            self.metrics, lambda: None if self.navigation is None else self.navigation.teleop_stats
+            metrics, lambda: None if self.navigation is None else self.navigation.teleop_stats
         )
+        register_collision_monitor_metrics(metrics, lambda: self.monitor)
+        return metrics
 
     def _top_speed(self) -> float:
         """The speed (m/s) a speed limit in percent is a part of: the controller's
@@ -326,6 +381,14 @@ class MobileRig:
     def stop(self) -> None:
         """Command zero velocity."""
         self.robot.base.stop()
+
+    def sim_records(self) -> list[tuple[float, str, dict[str, Any]]]:
+        """The collision monitor's state changes since the last call."""
+        if self.monitor is None:
+            return []
+        changes = self.monitor.changes[self._monitor_records :]
+        self._monitor_records += len(changes)
+        return [(change.time, "collision_monitor", monitor_record(change)) for change in changes]
 
     def plot_data(self, title: str) -> MobilePlot:
         """The map-view plot of this run."""
@@ -423,6 +486,10 @@ class ArmRig:
     def stop(self) -> None:
         """Hold the tool where it is."""
         self.server.hold()
+
+    def sim_records(self) -> list[tuple[float, str, dict[str, Any]]]:
+        """None: the arm has nothing beyond its state to trace."""
+        return []
 
     def plot_data(self, title: str) -> ArmPlot:
         """The 3D tool-path plot of this run."""

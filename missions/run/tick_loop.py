@@ -153,6 +153,7 @@ class RunLoop:
                 return self._cancel(self._cancel_message())
             while True:
                 now = sim.time
+                self._record_sim()
                 self._record_state(now)
                 fault = None if self.faults is None else self.faults.check(now)
                 if fault is not None:
@@ -222,6 +223,7 @@ class RunLoop:
         self, result: str, code: int, name: str, message: str, *, interrupted: bool = False
     ) -> LoopOutcome:
         now = self.sim.time
+        self._record_sim()
         self._record_state(now)
         self.trace.add(
             now, "end", result=result, error_code=int(code), error_name=name, error_msg=message
@@ -334,7 +336,13 @@ class RunLoop:
             error_msg=outcome.error_msg,
         )
 
+    def _record_sim(self) -> None:
+        """What happened inside the simulation (the collision monitor's state changes)."""
+        for stamp, kind, fields in self.rig.sim_records():
+            self.trace.add(stamp, kind, **fields)
+
     def _record_events(self, records: list[dict[str, Any]]) -> None:
+        self._record_sim()
         for record in records:
             self.trace.add(self.sim.time, "event", **record)
 
