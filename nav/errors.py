@@ -2,9 +2,9 @@
 
 Each Nav2 action has its own range of codes (reference/nav2.md §2): controller 1xx, planner 2xx,
 through-poses planner 3xx, smoother 5xx, waypoint follower 6xx, behaviours 7xx, navigators
-9000/9100 (the route server's 4xx and the docking and following servers' 9xx are in
-:mod:`baobab.nav.future_server_errors` until those servers run). ``NONE = 0`` means success
-everywhere.
+9000/9100, the route server 4xx, the GPS waypoint follower 6xx (the docking and following
+servers' 9xx are in :mod:`baobab.nav.future_server_errors` until those servers run).
+``NONE = 0`` means success everywhere.
 When several actions failed during one navigation, Nav2 reports the numerically lowest non-zero
 code (:func:`reported_error_code`).
 """
@@ -85,6 +85,16 @@ class FollowWaypointsError(IntEnum):
     STOP_ON_MISSED_WAYPOINT = 603
 
 
+class FollowGPSWaypointsError(IntEnum):
+    """``nav2_msgs/action/FollowGPSWaypoints`` result codes (waypoint follower)."""
+
+    NONE = 0
+    UNKNOWN = 600
+    TASK_EXECUTOR_FAILED = 601
+    NO_WAYPOINTS_GIVEN = 602
+    STOP_ON_MISSED_WAYPOINT = 603
+
+
 class SpinError(IntEnum):
     """``nav2_msgs/action/Spin`` result codes (behaviour server)."""
 
@@ -152,6 +162,33 @@ class NavigateThroughPosesError(IntEnum):
     FAILED_TO_LOAD_BEHAVIOR_TREE = 9101
     TF_ERROR = 9102
     TIMEOUT = 9103
+
+
+class ComputeRouteError(IntEnum):
+    """``nav2_msgs/action/ComputeRoute`` result codes (route server)."""
+
+    NONE = 0
+    UNKNOWN = 400
+    TF_ERROR = 401
+    NO_VALID_GRAPH = 402
+    INDETERMINANT_NODES_ON_GRAPH = 403
+    TIMEOUT = 404
+    NO_VALID_ROUTE = 405
+    INVALID_EDGE_SCORER_USE = 407
+
+
+class ComputeAndTrackRouteError(IntEnum):
+    """``nav2_msgs/action/ComputeAndTrackRoute`` result codes (route server)."""
+
+    NONE = 0
+    UNKNOWN = 400
+    TF_ERROR = 401
+    NO_VALID_GRAPH = 402
+    INDETERMINANT_NODES_ON_GRAPH = 403
+    TIMEOUT = 404
+    NO_VALID_ROUTE = 405
+    OPERATION_FAILED = 406
+    INVALID_EDGE_SCORER_USE = 407
 
 
 class NavigationError(BaobabError):

@@ -15,8 +15,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from baobab.nav import msgs
-from baobab.nav.errors import GoalRejectedError
-from baobab.nav.future_server_errors import ComputeRouteError
+from baobab.nav.errors import ComputeRouteError, GoalRejectedError
 from baobab.nav.interfaces import RESULT_KEY
 from baobab.nav.navigator_feedback import RunningTask
 from baobab.nav.navigator_tasks import NavigatorTasks
