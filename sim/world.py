@@ -2,7 +2,9 @@
 
 A world file names a floor, static boxes (walls, counters, crop rows, houses), static cylinders
 (tables, trees, pumps), named spawn poses and named locations. It is validated with pydantic
-and every error names the file, line, column and field.
+and every error names the file, line, column and field. Optional: a ``route_graph`` (a Nav2
+GeoJSON graph file next to the world file, :mod:`baobab.sim.route_graph_file`) and a
+``datum`` placing the map on the Earth (:mod:`baobab.sim.datum`).
 """
 
 from __future__ import annotations
@@ -13,9 +15,12 @@ from functools import cached_property
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import ConfigDict, Field, ValidationError, model_validator
+from pydantic import ConfigDict, Field, PrivateAttr, ValidationError, model_validator
 
+from baobab.sim.datum import Datum
 from baobab.sim.errors import WorldError
+from baobab.sim.route_graph_file import RouteGraph, load_route_graph
+from baobab.sim.route_graph_geometry import check_on_world
 from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import (
     FieldValueError,
@@ -136,6 +141,11 @@ class World(_Strict):
     cylinders: list[Cylinder] = Field(default_factory=empty_list)
     spawns: dict[str, Pose2D] = Field(min_length=1)
     locations: dict[str, Pose2D] = Field(default_factory=dict)
+    route_graph: str | None = Field(
+        default=None, description="Nav2 GeoJSON route graph file, relative to the world file"
+    )
+    datum: Datum | None = None
+    _routes: RouteGraph | None = PrivateAttr(default=None)
 
     @model_validator(mode="after")
     def _check(self) -> World:
@@ -237,6 +247,11 @@ class World(_Strict):
         """The default spawn pose."""
         return self.spawns["default"]
 
+    @property
+    def routes(self) -> RouteGraph | None:
+        """The route graph loaded from ``route_graph``, or None."""
+        return self._routes
+
     def pose(self, name: str) -> Pose2D:
         """A named location or spawn pose; ``WorldError``-free lookup is the caller's job."""
         if name in self.locations:
@@ -305,6 +320,14 @@ def load_world(name_or_path: str | Path) -> World:
         world = World.model_validate(document.data)
     except ValidationError as exc:
         raise describe_validation_error(document, exc, (), WorldError) from None
+    if world.route_graph is not None:
+        graph_path = path.parent / world.route_graph
+        if not graph_path.is_file():
+            raise document.error(
+                ("route_graph",), f"route graph file '{graph_path}' not found", WorldError
+            )
+        world._routes = load_route_graph(graph_path)
+        check_on_world(world._routes, world)
     if len(_LOADED) >= _LOADED_MAX:
         _LOADED.pop(next(iter(_LOADED)))
     _LOADED[key] = world
