@@ -134,7 +134,9 @@ class NavigationServer:
         self.metrics = NavigationMetrics()
         self.tasks = TaskSlot(base, self.follower, self._clock)
         self.action_servers: dict[str, ActionServer] = {}
-        """Servers of the Nav2 actions this server does not run, by action name (none yet)."""
+        """Servers of the Nav2 actions this server does not run itself, by action name: the
+        route server's and the GPS waypoint follower's when the world has a route graph or a
+        datum (:func:`baobab.nav.world_servers.attach_world_servers`)."""
         self.services: dict[str, Callable[..., Any]] = {}
         """Nav2 services beyond the costmap ones, by name: ``collision_monitor/toggle``
         (``enable`` -> ``(success, message)``) when a collision monitor is plugged in."""
@@ -156,7 +158,7 @@ class NavigationServer:
         """Plan and drive to ``goal`` (map frame), replanning at 1 Hz, with recoveries."""
         return self.tasks.submit(
             "navigate_to_pose",
-            lambda: self._navigate_task([goal], through_poses=False),
+            lambda: self.navigate_task([goal], through_poses=False),
             lambda task: _preempt_navigation(task, [goal]),
         )
 
@@ -165,7 +167,7 @@ class NavigationServer:
         goal_list = list(goals)
         return self.tasks.submit(
             "navigate_through_poses",
-            lambda: self._navigate_task(goal_list, through_poses=True),
+            lambda: self.navigate_task(goal_list, through_poses=True),
             lambda task: _preempt_navigation(task, goal_list),
         )
 
@@ -188,7 +190,7 @@ class NavigationServer:
         def make() -> ServerTask:
             return WaypointFollower(
                 points,
-                lambda pose: self._navigate_task([pose], through_poses=False),
+                lambda pose: self.navigate_task([pose], through_poses=False),
                 wait_at_waypoint=wait_at_waypoint,
                 stop_on_failure=stop_on_failure,
                 loop_rate=self.params.waypoint_loop_rate,
@@ -413,7 +415,8 @@ class NavigationServer:
 
     # -- internals ----------------------------------------------------------------------------
 
-    def _navigate_task(self, goals: list[Pose2D], *, through_poses: bool) -> NavigateTask:
+    def navigate_task(self, goals: list[Pose2D], *, through_poses: bool) -> NavigateTask:
+        """A navigation to ``goals``, not submitted: the waypoint followers run these."""
         return NavigateTask(
             goals,
             through_poses=through_poses,
