@@ -16,6 +16,7 @@ from baobab.behaviours import (
     navigation_nodes,
     progress_nodes,
     ros_nodes,
+    route_nodes,
 )
 from baobab.behaviours.registry import Registry
 
@@ -23,6 +24,7 @@ NODE_MODULES: tuple[ModuleType, ...] = (
     control_nodes,
     common_nodes,
     navigation_nodes,
+    route_nodes,
     progress_nodes,
     arm_nodes,
     ros_nodes,

@@ -13,12 +13,15 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from baobab.robots.catalog import ARM, BASE_CONTROLLERS, NAVIGATION, ROS_NODES, TELEOP
 from baobab.sim.errors import BaobabError
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D
+
+if TYPE_CHECKING:
+    from baobab.nav.geodesy import GeoWaypoint
 
 __all__ = [
     "ARM",
@@ -83,6 +86,15 @@ class NavigationPort(Protocol):
 
     def assisted_teleop(self, time_allowance: float) -> TaskHandle:
         """Pass teleop commands through the collision projection for ``time_allowance`` s."""
+        ...
+
+    def follow_route(self, start: int | Pose2D | None, goal: int | Pose2D) -> TaskHandle:
+        """Drive the world's route graph from ``start`` (a node id, a pose, None: the robot)
+        to ``goal`` (a node id or a pose), rerouting round blocked edges."""
+        ...
+
+    def follow_gps_waypoints(self, waypoints: Sequence[GeoWaypoint]) -> TaskHandle:
+        """Navigate to each geographic waypoint in turn, through the world's datum."""
         ...
 
     def clear_costmaps(self, which: str) -> None:

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 from baobab.nav import msgs
 from baobab.nav.errors import FollowGPSWaypointsError
-from baobab.nav.geodesy import GeodesyError, MapDatum
+from baobab.nav.geodesy import GeodesyError, GeoWaypoint, GpsGoal, MapDatum
 from baobab.nav.interfaces import FEEDBACK_KEY, RESULT_KEY, ServerTask
 from baobab.nav.navigator_feedback import missed_waypoints
 from baobab.nav.ros.geographic_msgs.msg import GeoPose
@@ -59,16 +59,16 @@ class GpsWaypointFollower:
         """Serve ``follow_gps_waypoints``."""
         self.navigation.action_servers[FOLLOW_GPS_WAYPOINTS] = self
 
-    def to_map(self, gps_poses: Sequence[GeoPose]) -> tuple[list[Pose2D], list[int]]:
+    def to_map(self, gps_poses: Sequence[GeoPose | GeoWaypoint]) -> tuple[list[Pose2D], list[int]]:
         """The map poses of ``gps_poses`` and the indices of those that could not be converted
         (``fromLL``, orientation copied)."""
         poses: list[Pose2D] = []
         failed: list[int] = []
         for index, geo in enumerate(gps_poses):
-            point = geo.position
             try:
-                x, y = self.map.to_map(point.latitude, point.longitude, point.altitude)
-                yaw = msgs.yaw_from_quaternion(geo.orientation)
+                waypoint = geo if isinstance(geo, GeoWaypoint) else _waypoint(geo)
+                x, y = self.map.to_map(waypoint.latitude, waypoint.longitude, waypoint.altitude)
+                yaw = waypoint.yaw
             except (GeodesyError, msgs.MessageValueError):
                 failed.append(index)
                 if self.stop_on_failure:
@@ -78,8 +78,10 @@ class GpsWaypointFollower:
         return poses, failed
 
     def send_goal(self, goal: Any) -> TaskHandle:
-        """Convert ``goal.gps_poses`` and follow them (``FollowGPSWaypoints.Goal``)."""
-        poses, _failed = self.to_map(list(goal.gps_poses))
+        """Convert the goal's waypoints and follow them (a ``FollowGPSWaypoints.Goal`` or a
+        :class:`~baobab.nav.geodesy.GpsGoal`)."""
+        given = goal.waypoints if isinstance(goal, GpsGoal) else goal.gps_poses
+        poses, _failed = self.to_map(list(given))
         loops, start = int(goal.number_of_loops), int(goal.goal_index)
         stop = self.stop_on_failure
         navigation = self.navigation
@@ -151,3 +153,14 @@ class GpsWaypointTask:
             error_code=int(outcome.error_code),
             error_msg=outcome.error_msg,
         )
+
+
+def _waypoint(geo: GeoPose) -> GeoWaypoint:
+    """The waypoint of a ``GeoPose`` (its orientation's yaw).
+
+    Raises:
+        MessageValueError: a zero quaternion.
+    """
+    point = geo.position
+    yaw = msgs.yaw_from_quaternion(geo.orientation)
+    return GeoWaypoint(point.latitude, point.longitude, yaw, point.altitude)

@@ -36,7 +36,9 @@ EPSILON = 1e-6
 class RouteRequest:
     """A ComputeRoute / ComputeAndTrackRoute goal, map frame (m, rad).
 
-    ``start`` is None when the route starts at the robot (``use_start`` false).
+    ``start`` is None when the route starts at the robot (``use_start`` false). With
+    ``use_poses``, a ``goal`` of None means the node ``goal_id`` (a mission's ``follow_route``
+    to a node from the robot's pose; Nav2's messages always carry a goal pose).
     """
 
     use_poses: bool
@@ -102,17 +104,24 @@ class RoutePlanning:
 
     def _extents(self, request: RouteRequest, robot: Pose2D) -> tuple[int, int, Pose2D, Pose2D]:
         if not request.use_poses:
-            for node_id in (request.start_id, request.goal_id):
-                if not self.graph.has_node(node_id):
-                    raise NavigationError(
-                        ComputeRouteError.INDETERMINANT_NODES_ON_GRAPH,
-                        f"no node of the route graph has id {node_id}",
-                    )
+            self._check_ids(request.start_id, request.goal_id)
             start, goal = self.graph.node(request.start_id), self.graph.node(request.goal_id)
             return start.id, goal.id, _pose_at(start), _pose_at(goal)
         start_pose = request.start if request.start is not None else robot
-        goal_pose = request.goal if request.goal is not None else robot
+        if request.goal is None:
+            self._check_ids(request.goal_id)
+            goal_node = self.graph.node(request.goal_id)
+            return self._node_for(start_pose).id, goal_node.id, start_pose, _pose_at(goal_node)
+        goal_pose = request.goal
         return self._node_for(start_pose).id, self._node_for(goal_pose).id, start_pose, goal_pose
+
+    def _check_ids(self, *node_ids: int) -> None:
+        for node_id in node_ids:
+            if not self.graph.has_node(node_id):
+                raise NavigationError(
+                    ComputeRouteError.INDETERMINANT_NODES_ON_GRAPH,
+                    f"no node of the route graph has id {node_id}",
+                )
 
     def _node_for(self, pose: Pose2D) -> GraphNode:
         """The node a pose maps to: the nearest one in sight, else the nearest."""

@@ -40,11 +40,14 @@ COMPUTE_AND_TRACK_ROUTE = "compute_and_track_route"
 
 
 def route_request(goal: Any) -> RouteRequest:
-    """The request of a ComputeRoute or ComputeAndTrackRoute goal message.
+    """The request of a ComputeRoute or ComputeAndTrackRoute goal message (a
+    :class:`RouteRequest` is taken as it is: the navigation server's ``follow_route``).
 
     Raises:
         GoalRejectedError: a pose outside the ``map`` frame or not a valid pose.
     """
+    if isinstance(goal, RouteRequest):
+        return goal
     if not goal.use_poses:
         return RouteRequest(False, int(goal.start_id), int(goal.goal_id))
     start = goal_pose(goal.start, "route start") if goal.use_start else None
@@ -89,12 +92,19 @@ class RouteServer:
         self.graph = SearchGraph(graph)
         self.planning = RoutePlanning(self.graph, self.params, navigation.global_costmap)
         self._tracked: _Tracked | None = None
+        self._past_reroutes = 0
 
     def register(self) -> None:
         """Serve ``compute_route`` and ``compute_and_track_route``."""
         servers = self.navigation.action_servers
         servers[COMPUTE_ROUTE] = RouteAction(self.compute_route)
         servers[COMPUTE_AND_TRACK_ROUTE] = RouteAction(lambda goal: self.track(route_request(goal)))
+
+    @property
+    def reroutes(self) -> int:
+        """Routes planned again for goals being tracked, all goals so far."""
+        current = 0 if self._tracked is None else self._tracked.tracking.reroutes
+        return self._past_reroutes + current
 
     @property
     def tracking(self) -> RouteTracking | None:
@@ -189,6 +199,7 @@ class RouteServer:
     def _stop(self) -> None:
         if self._tracked is not None:
             self._tracked.timer.cancel()
+            self._past_reroutes += self._tracked.tracking.reroutes
             self._tracked = None
 
     def _finish(self, handle: TaskHandle, outcome: TaskOutcome) -> None:

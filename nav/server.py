@@ -47,14 +47,16 @@ from baobab.nav.behaviors import (
 from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_updates import CostmapUpdates
-from baobab.nav.errors import NavigationError, SmoothPathError
+from baobab.nav.errors import GoalRejectedError, NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
+from baobab.nav.geodesy import GeoWaypoint, GpsGoal
 from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
 from baobab.nav.layers import StaticLayer
 from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
 from baobab.nav.path import Path
 from baobab.nav.planner import GlobalPlanner, PlannerParams
+from baobab.nav.route_requests import RouteRequest
 from baobab.nav.smoother import SimpleSmoother
 from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
@@ -284,6 +286,38 @@ class NavigationServer:
         """Nav2's Wait behaviour: ``duration`` s of sim time."""
         return self.tasks.submit("wait", lambda: Wait(self.behavior_context, duration), None)
 
+    def follow_route(self, start: int | Pose2D | None, goal: int | Pose2D) -> TaskHandle:
+        """Drive the route graph's route from ``start`` to ``goal`` (task ``follow_route``).
+
+        ``start`` and ``goal`` are node ids or map poses; a ``start`` of None is the robot's
+        pose; a node-id ``goal`` with a pose or no ``start`` is that node's position. Needs
+        the world's route server (:mod:`baobab.nav.world_servers`).
+
+        Raises:
+            GoalRejectedError: no route server (the world has no route graph).
+        """
+        if isinstance(start, int) and isinstance(goal, int):
+            request = RouteRequest(False, start_id=start, goal_id=goal)
+        elif isinstance(goal, int):
+            request = RouteRequest(True, goal_id=goal, start=_as_pose(start))
+        else:
+            request = RouteRequest(True, start=_as_pose(start), goal=goal)
+        return self._world_action("follow_route", "route graph", request)
+
+    def follow_gps_waypoints(self, waypoints: Sequence[GeoWaypoint]) -> TaskHandle:
+        """Follow geographic waypoints in turn (FollowGPSWaypoints over the world's datum).
+
+        Raises:
+            GoalRejectedError: no GPS waypoint follower (the world has no datum).
+        """
+        return self._world_action("follow_gps_waypoints", "datum", GpsGoal(list(waypoints)))
+
+    def _world_action(self, name: str, needs: str, goal: Any) -> TaskHandle:
+        server = self.action_servers.get(name)
+        if server is None:
+            raise GoalRejectedError(f"'{name}' needs a world with a {needs}; this one has none")
+        return server.send_goal(goal)
+
     def assisted_teleop(self, time_allowance: float = 30.0) -> TaskHandle:
         """Drive by :meth:`teleop_command` through the collision projection.
 
@@ -480,3 +514,8 @@ def build_navigation(
         params: navigation settings (defaults: Nav2's, for the Burger).
     """
     return NavigationServer(sim, robot_base, world, lidar=lidar, params=params)
+
+
+def _as_pose(end: int | Pose2D | None) -> Pose2D | None:
+    """A route end as a pose: a node id stands for no pose (the route server places it)."""
+    return end if isinstance(end, Pose2D) else None

@@ -9,6 +9,7 @@ as before.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from baobab.nav.gps_waypoints import GpsWaypointFollower
@@ -21,15 +22,26 @@ if TYPE_CHECKING:
     from baobab.nav.server import NavigationServer
 
 
+@dataclass(frozen=True)
+class WorldServers:
+    """The servers :func:`attach_world_servers` plugged in (None: nothing to serve)."""
+
+    routes: RouteServer | None = None
+    gps: GpsWaypointFollower | None = None
+
+
 def attach_world_servers(
     navigation: NavigationServer, world: World, *, route_graph: RouteGraph | None = None
-) -> None:
+) -> WorldServers:
     """Register the route server (``route_graph``, else the world's) and the GPS waypoint
     follower (the world's datum) where there is something for them to serve."""
     graph = route_graph if route_graph is not None else world.routes
+    routes = gps = None
     if graph is not None:
         routes = RouteServer(navigation, graph)
         routes.register()
         register_route_driving(routes)
     if world.datum is not None:
-        GpsWaypointFollower(navigation, world.datum).register()
+        gps = GpsWaypointFollower(navigation, world.datum)
+        gps.register()
+    return WorldServers(routes, gps)

@@ -252,6 +252,12 @@ class World(_Strict):
         """The route graph loaded from ``route_graph``, or None."""
         return self._routes
 
+    def with_route_graph(self, graph: RouteGraph) -> World:
+        """This world with ``graph`` as its route graph (a mission's own ``route_graph``)."""
+        world = self.model_copy()
+        world._routes = graph
+        return world
+
     def pose(self, name: str) -> Pose2D:
         """A named location or spawn pose; ``WorldError``-free lookup is the caller's job."""
         if name in self.locations:

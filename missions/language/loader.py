@@ -7,8 +7,9 @@ Order of work (each step's errors come before the next step's):
 2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
    timeout and expect (and a refusal of ``${`` anywhere else);
 3. the top-level model (types, events, expectations);
-4. robot, world (a bundled name or a file inside the mission's folder) and locations (the
-   world's spawns and locations, then the mission's, which win);
+4. robot, world (a bundled name or a file inside the mission's folder), the mission's own
+   route graph (a GeoJSON file inside the folder, checked against the world) and locations
+   (the world's spawns and locations, then the mission's, which win);
 5. start pose, the tree (node types, capabilities, parameters, goal poses in free space),
    every subtree body, then the cross-checks of events and expectations.
 """
@@ -47,6 +48,8 @@ from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
 from baobab.robots.catalog import ROBOTS, RobotInfo
 from baobab.sim.errors import unknown_name
 from baobab.sim.input_files import file_kind_problem
+from baobab.sim.route_graph_file import load_route_graph
+from baobab.sim.route_graph_geometry import check_on_world
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
 from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml, read_yaml_text
 
@@ -172,6 +175,7 @@ class _Loader:
             ) from None
         robot = ROBOTS[file.robot]
         world, world_name = self._world(file.world, robot)
+        world = self._route_graph(file.route_graph, world)
         scope = MissionScope(
             robot, world, self._locations(file, robot, world), self.path.parent.resolve()
         )
@@ -247,24 +251,46 @@ class _Loader:
             if written not in bundled:
                 raise self._error(("world",), unknown_name("world", written, bundled))
             return load_world(written), written
+        resolved = self._file_in_folder(
+            "world", written, "world file", "give a bundled world name or a path inside the folder"
+        )
+        return load_world(resolved), str(resolved)
+
+    def _file_in_folder(self, key: str, written: str, noun: str, hint: str) -> Path:
+        """The file the top-level ``key`` names, which must lie inside the mission's folder."""
         relative = Path(written)
         folder = self.path.parent.resolve()
         resolved = (folder / relative).resolve()
         if relative.is_absolute() or not resolved.is_relative_to(folder):
-            raise self._error(
-                ("world",),
-                f"world file '{written}' is outside the mission's folder; give a bundled world "
-                "name or a path inside the folder",
-            )
+            raise self._error((key,), f"{noun} '{written}' is outside the mission's folder; {hint}")
         try:
             problem = file_kind_problem(resolved.stat().st_mode)
         except OSError:
             problem = "does not exist"
         if problem == "does not exist":
-            raise self._error(("world",), f"no world file '{written}' in the mission's folder")
+            raise self._error((key,), f"no {noun} '{written}' in the mission's folder")
         if problem is not None:
-            raise self._error(("world",), f"world file '{written}' {problem}; expected a file")
-        return load_world(resolved), str(resolved)
+            raise self._error((key,), f"{noun} '{written}' {problem}; expected a file")
+        return resolved
+
+    def _route_graph(self, written: str | None, world: World | None) -> World | None:
+        """The world with the mission's own route graph in place of its own, if it names one.
+
+        Raises:
+            MissionError: no mobile robot's world, or the file outside the folder or missing.
+            WorldError: a mistake in the graph file, or a node or edge the world makes
+                impossible (located in the graph file).
+        """
+        if written is None:
+            return world
+        if world is None:
+            raise self._error(("route_graph",), "a route graph needs a mobile robot's world")
+        resolved = self._file_in_folder(
+            "route_graph", written, "route graph file", "give a path inside the folder"
+        )
+        graph = load_route_graph(resolved)
+        check_on_world(graph, world)
+        return world.with_route_graph(graph)
 
     def _locations(
         self, file: MissionFile, robot: RobotInfo, world: World | None

@@ -373,6 +373,11 @@ class MissionFile(_Strict):
         default=None,
         description="a bundled world name, or a world file path inside the mission's folder",
     )
+    route_graph: str | None = Field(
+        default=None,
+        description="a Nav2 GeoJSON route graph file inside the mission's folder, in place of "
+        "the world's",
+    )
     robot: RobotName
     start: Annotated[Any, POSE_REF_SCHEMA] = Field(
         default=None, description="start pose or location; default: the world's spawn"

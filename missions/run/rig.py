@@ -33,8 +33,10 @@ from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
 
 if TYPE_CHECKING:
+    from baobab.nav.geodesy import GeoWaypoint
     from baobab.nav.ros.mission_nodes import MissionNodes
     from baobab.nav.server import NavigationServer
+    from baobab.nav.world_servers import WorldServers
 
 ARM_CONTACT_NAME_PERIOD = 0.01
 """How often (s) the arm's contacts are looked at for the names of what it touched."""
@@ -107,13 +109,15 @@ def mission_goals(mission: Mission) -> list[tuple[str, Pose]]:
 
 def build_navigation(
     sim: Simulation, robot: TurtleBot3, world: World, teleop: TeleopChannel
-) -> NavigationServer:
-    """The navigation server of a TurtleBot3, fed by teleop events (imported only now)."""
+) -> tuple[NavigationServer, WorldServers]:
+    """The navigation server of a TurtleBot3, fed by teleop events, and the servers of the
+    world's route graph and datum (imported only now)."""
     from baobab.nav.server import build_navigation as build_server
+    from baobab.nav.world_servers import attach_world_servers
 
     server = build_server(sim, robot.base, robot.lidar, world)
     teleop.subscribe(lambda twist: server.teleop_command(*(twist or (0.0, 0.0))))
-    return server
+    return server, attach_world_servers(server, world)
 
 
 class ClearCountingPort:
@@ -172,6 +176,14 @@ class ClearCountingPort:
         """The server's AssistedTeleop."""
         return self.server.assisted_teleop(time_allowance)
 
+    def follow_route(self, start: int | Pose2D | None, goal: int | Pose2D) -> TaskHandle:
+        """The server's route driving."""
+        return self.server.follow_route(start, goal)
+
+    def follow_gps_waypoints(self, waypoints: Sequence[GeoWaypoint]) -> TaskHandle:
+        """The server's FollowGPSWaypoints."""
+        return self.server.follow_gps_waypoints(waypoints)
+
     def robot_pose(self) -> Pose2D:
         """The robot's map-frame pose."""
         return self.server.robot_pose()
@@ -195,12 +207,15 @@ class MobileRig:
         self.teleop: TeleopChannel | None = TeleopChannel()
         self.obstacles: ObstacleSlots | None = ObstacleSlots(self.sim)
         self.navigation: NavigationServer | None = None
+        self.world_servers: WorldServers | None = None
         self.planned_paths: list[np.ndarray] = []
         self.clear_counter: ClearCountingPort | None = None
         port: NavigationPort | None = None
         sim = self.sim
         if uses_capability(mission, NAVIGATION):
-            self.navigation = build_navigation(sim, self.robot, world, self.teleop)
+            self.navigation, self.world_servers = build_navigation(
+                sim, self.robot, world, self.teleop
+            )
             self.clear_counter = ClearCountingPort(self.navigation)
             port = self.clear_counter
             sim.every(PATH_SAMPLE_PERIOD, self._sample_path, name="plot paths")
@@ -248,9 +263,18 @@ class MobileRig:
             lambda: 0 if self.navigation is None else self.navigation.metrics.replans,
             description="paths planned after a goal's first",
         )
+        self.metrics.add(
+            "route_reroutes",
+            self._reroutes,
+            description="routes planned again round blocked edges of the route graph",
+        )
         register_teleop_metrics(
             self.metrics, lambda: None if self.navigation is None else self.navigation.teleop_stats
         )
+
+    def _reroutes(self) -> int:
+        routes = None if self.world_servers is None else self.world_servers.routes
+        return 0 if routes is None else routes.reroutes
 
     def _recoveries(self) -> int:
         return 0 if self.navigation is None else self.navigation.metrics.number_of_recoveries
