@@ -143,7 +143,29 @@ tree:
     - object_at: {object: cube, target: {position: [0.45, 0.3, 0.525]}}
 timeout: 60
 """
-CORPUS = {"mobile": MOBILE, "arm": ARM}
+ROUTES = """
+mission: btcpp_routes
+world: town
+robot: turtlebot3
+tree:
+  sequence:
+    - follow_route: 22
+    - follow_route: {start: 3, goal: 5}
+    - follow_route: {goal: fast_food, start: {x: 0, y: 0}}
+timeout: 100
+"""
+
+GPS = """
+mission: btcpp_gps
+world: farm
+robot: turtlebot3
+tree:
+  follow_gps_waypoints:
+    - {latitude: 38.538162164, longitude: -121.761631182, yaw_deg: 90}
+    - {latitude: 38.538180181, longitude: -121.761631182, altitude: 12.5}
+timeout: 100
+"""
+CORPUS = {"mobile": MOBILE, "arm": ARM, "routes": ROUTES, "gps": GPS}
 
 
 def mission_file(tmp_path: Path, body: str, name: str) -> Path:
