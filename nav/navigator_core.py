@@ -22,7 +22,7 @@ from baobab.nav.navigator_time import NavigatorWaits
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
 from baobab.nav.server import NavigationServer, build_navigation
-from baobab.nav.world_servers import attach_world_servers
+from baobab.nav.world_servers import WorldServers, attach_world_servers
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
 from baobab.sim.world import Pose2D, World, load_world
@@ -110,8 +110,13 @@ class NavigatorCore(Node):
     def _build(self, world: World, start: Pose2D) -> tuple[SimulatedRobot, NavigationServer]:
         rig = build_simulated_robot(self._robot_model, world, start, self._seed)
         server = build_navigation(rig.sim, rig.base, rig.lidar, world)
-        attach_world_servers(server, world)
+        self._world_servers = attach_world_servers(server, world)
         return rig, server
+
+    @property
+    def world_servers(self) -> WorldServers:
+        """The route server and GPS waypoint follower of the world, where it has them."""
+        return self._world_servers
 
     def _sim_seconds(self) -> float:
         return self._time_offset + self._rig.sim.time
