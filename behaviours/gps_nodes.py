@@ -24,7 +24,7 @@ from baobab.sim.yaml_source import FieldValueError
 if TYPE_CHECKING:  # imported by the factory, when a tree is built (validation needs none)
     import py_trees
 
-    from baobab.nav.geodesy import GeoWaypoint
+    from baobab.sim.geodesy import GeoWaypoint
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 
@@ -59,7 +59,7 @@ class GpsWaypoint(YamlModel):
 
     def geo(self) -> GeoWaypoint:
         """The navigation stack's waypoint."""
-        from baobab.nav.geodesy import GeoWaypoint
+        from baobab.sim.geodesy import GeoWaypoint
 
         altitude = math.nan if self.altitude is None else self.altitude
         return GeoWaypoint(self.latitude, self.longitude, self.heading, altitude)
@@ -84,7 +84,7 @@ class FollowGpsWaypointsParams(NodeParams):
                 f"world '{world.name}' has no datum; GPS waypoints need one (datum: {{latitude, "
                 "longitude, heading}} in the world file)",
             )
-        from baobab.nav.geodesy import MapDatum  # pymap3d: only for missions with GPS
+        from baobab.sim.geodesy import MapDatum  # pymap3d: only for missions with GPS
 
         plane = MapDatum(world.datum)
         for index, waypoint in enumerate(self.waypoints):
@@ -106,7 +106,9 @@ class FollowGpsWaypointsParams(NodeParams):
 
 
 def _follow_gps_waypoints(request: BuildRequest) -> py_trees.behaviour.Behaviour:
-    waypoints = [waypoint.geo() for waypoint in request.params_as(FollowGpsWaypointsParams).waypoints]
+    waypoints = [
+        waypoint.geo() for waypoint in request.params_as(FollowGpsWaypointsParams).waypoints
+    ]
     return request.goal_task(lambda caps: caps.navigation_port().follow_gps_waypoints(waypoints))
 
 

@@ -21,7 +21,7 @@ from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D
 
 if TYPE_CHECKING:
-    from baobab.nav.geodesy import GeoWaypoint
+    from baobab.sim.geodesy import GeoWaypoint
 
 __all__ = [
     "ARM",

@@ -1,7 +1,7 @@
 """Nav2's GPS waypoint follower: FollowGPSWaypoints over the world's datum.
 
 As Nav2's waypoint follower does (reference/nav2_ros_facts.md §9): every GeoPose of the goal
-is converted to the map frame at once (``fromLL``: :class:`~baobab.nav.geodesy.MapDatum`),
+is converted to the map frame at once (``fromLL``: :class:`~baobab.sim.geodesy.MapDatum`),
 its orientation copied unchanged (so it is taken as a map-frame heading); a pose that cannot be
 converted (a latitude or longitude out of range, not a number, a zero quaternion) is skipped,
 or, with ``stop_on_failure``, leaves no waypoints at all. Then the poses run as FollowWaypoints
@@ -23,13 +23,14 @@ from typing import TYPE_CHECKING, Any
 
 from baobab.nav import msgs
 from baobab.nav.errors import FollowGPSWaypointsError
-from baobab.nav.geodesy import GeodesyError, GeoWaypoint, GpsGoal, MapDatum
+from baobab.nav.gps_goal import GpsGoal
 from baobab.nav.interfaces import FEEDBACK_KEY, RESULT_KEY, ServerTask
 from baobab.nav.navigator_feedback import missed_waypoints
 from baobab.nav.ros.geographic_msgs.msg import GeoPose
 from baobab.nav.ros.nav2_msgs import action
 from baobab.nav.waypoints import WaypointFollower
 from baobab.sim.datum import Datum
+from baobab.sim.geodesy import GeodesyError, GeoWaypoint, MapDatum
 from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D
 
@@ -79,7 +80,7 @@ class GpsWaypointFollower:
 
     def send_goal(self, goal: Any) -> TaskHandle:
         """Convert the goal's waypoints and follow them (a ``FollowGPSWaypoints.Goal`` or a
-        :class:`~baobab.nav.geodesy.GpsGoal`)."""
+        :class:`~baobab.sim.geodesy.GpsGoal`)."""
         given = goal.waypoints if isinstance(goal, GpsGoal) else goal.gps_poses
         poses, _failed = self.to_map(list(given))
         loops, start = int(goal.number_of_loops), int(goal.goal_index)

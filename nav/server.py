@@ -49,7 +49,7 @@ from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import GoalRejectedError, NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
-from baobab.nav.geodesy import GeoWaypoint, GpsGoal
+from baobab.nav.gps_goal import GpsGoal
 from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
 from baobab.nav.layers import StaticLayer
@@ -61,6 +61,7 @@ from baobab.nav.smoother import SimpleSmoother
 from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
 from baobab.nav.waypoints import WaypointFollower
+from baobab.sim.geodesy import GeoWaypoint
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World

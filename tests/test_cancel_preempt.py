@@ -77,7 +77,6 @@ from navigation_rig import sealed_room
 
 from baobab.nav import BasicNavigator, TaskResult
 from baobab.nav.errors import AssistedTeleopError, ComputePathToPoseError
-from baobab.nav.geodesy import MapDatum
 from baobab.nav.msgs import Header, Quaternion, Twist, Vector3, pose_stamped
 from baobab.nav.msgs import Path as PathMessage
 from baobab.nav.ros.geographic_msgs.msg import GeoPoint, GeoPose
@@ -90,6 +89,7 @@ from baobab.robots.panda.scene import build_panda_sim
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.robots.turtlebot3.base import DiffDriveBase
 from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
+from baobab.sim.geodesy import MapDatum
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D, World, load_world

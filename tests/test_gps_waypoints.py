@@ -22,12 +22,12 @@ from baobab.missions.language.errors import MissionError
 from baobab.missions.language.loader import load_mission
 from baobab.nav import BasicNavigator, TaskResult
 from baobab.nav.errors import FollowGPSWaypointsError
-from baobab.nav.geodesy import GeodesyError, GeoWaypoint, MapDatum, geodetic_to_enu
 from baobab.nav.gps_waypoints import GpsWaypointFollower
 from baobab.nav.msgs import Quaternion
 from baobab.nav.ros.geographic_msgs.msg import GeoPoint, GeoPose
 from baobab.sim.datum import Datum
 from baobab.sim.errors import WorldError
+from baobab.sim.geodesy import GeodesyError, GeoWaypoint, MapDatum, geodetic_to_enu
 from baobab.sim.world import load_world
 
 WORLDS = Path(__file__).parent / "missions" / "worlds"

@@ -33,10 +33,10 @@ from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
 
 if TYPE_CHECKING:
-    from baobab.nav.geodesy import GeoWaypoint
     from baobab.nav.ros.mission_nodes import MissionNodes
     from baobab.nav.server import NavigationServer
     from baobab.nav.world_servers import WorldServers
+    from baobab.sim.geodesy import GeoWaypoint
 
 ARM_CONTACT_NAME_PERIOD = 0.01
 """How often (s) the arm's contacts are looked at for the names of what it touched."""

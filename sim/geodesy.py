@@ -15,7 +15,7 @@ An unknown altitude (NaN, as ``geographic_msgs/GeoPoint`` allows) is taken as th
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from baobab.sim.datum import Datum
 from baobab.sim.errors import BaobabError
@@ -38,16 +38,6 @@ class GeoWaypoint:
     longitude: float
     yaw: float = 0.0
     altitude: float = math.nan
-
-
-@dataclass(frozen=True)
-class GpsGoal:
-    """A FollowGPSWaypoints goal without ROS messages (the navigation server's
-    ``follow_gps_waypoints``): the waypoints, ``number_of_loops`` and ``goal_index``."""
-
-    waypoints: list[GeoWaypoint] = field(default_factory=list)
-    number_of_loops: int = 0
-    goal_index: int = 0
 
 
 def check_geodetic(latitude: float, longitude: float) -> None:
