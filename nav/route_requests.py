@@ -47,6 +47,17 @@ class RouteRequest:
     start: Pose2D | None = None
     goal: Pose2D | None = None
 
+    @classmethod
+    def between(cls, start: int | Pose2D | None, goal: int | Pose2D) -> RouteRequest:
+        """A request from ``start`` (a node id, a pose, None: the robot) to ``goal`` (a node
+        id or a pose): node ids both, else poses, a node-id goal standing for its node."""
+        if isinstance(start, int) and isinstance(goal, int):
+            return cls(False, start_id=start, goal_id=goal)
+        begin = start if isinstance(start, Pose2D) else None
+        if isinstance(goal, int):
+            return cls(True, goal_id=goal, start=begin)
+        return cls(True, start=begin, goal=goal)
+
 
 @dataclass
 class Rerouting:

@@ -137,9 +137,7 @@ class NavigationServer:
         self.metrics = NavigationMetrics()
         self.tasks = TaskSlot(base, self.follower, self._clock)
         self.action_servers: dict[str, ActionServer] = {}
-        """Servers of the Nav2 actions this server does not run itself, by action name: the
-        route server's and the GPS waypoint follower's when the world has a route graph or a
-        datum (:func:`baobab.nav.world_servers.attach_world_servers`)."""
+        """Servers of the Nav2 actions this server does not run, by name (world_servers.py)."""
         self.services: dict[str, Callable[..., Any]] = {}
         """Nav2 services beyond the costmap ones, by name: ``collision_monitor/toggle``
         (``enable`` -> ``(success, message)``) when a collision monitor is plugged in."""
@@ -288,29 +286,13 @@ class NavigationServer:
         return self.tasks.submit("wait", lambda: Wait(self.behavior_context, duration), None)
 
     def follow_route(self, start: int | Pose2D | None, goal: int | Pose2D) -> TaskHandle:
-        """Drive the route graph's route from ``start`` to ``goal`` (task ``follow_route``).
-
-        ``start`` and ``goal`` are node ids or map poses; a ``start`` of None is the robot's
-        pose; a node-id ``goal`` with a pose or no ``start`` is that node's position. Needs
-        the world's route server (:mod:`baobab.nav.world_servers`).
-
-        Raises:
-            GoalRejectedError: no route server (the world has no route graph).
-        """
-        if isinstance(start, int) and isinstance(goal, int):
-            request = RouteRequest(False, start_id=start, goal_id=goal)
-        elif isinstance(goal, int):
-            request = RouteRequest(True, goal_id=goal, start=_as_pose(start))
-        else:
-            request = RouteRequest(True, start=_as_pose(start), goal=goal)
-        return self._world_action("follow_route", "route graph", request)
+        """Drive the route graph from ``start`` to ``goal`` (:meth:`RouteRequest.between`);
+        ``GoalRejectedError`` when the world has no route graph."""
+        return self._world_action("follow_route", "route graph", RouteRequest.between(start, goal))
 
     def follow_gps_waypoints(self, waypoints: Sequence[GeoWaypoint]) -> TaskHandle:
-        """Follow geographic waypoints in turn (FollowGPSWaypoints over the world's datum).
-
-        Raises:
-            GoalRejectedError: no GPS waypoint follower (the world has no datum).
-        """
+        """Follow geographic waypoints in turn, through the world's datum (FollowGPSWaypoints);
+        ``GoalRejectedError`` when the world has no datum."""
         return self._world_action("follow_gps_waypoints", "datum", GpsGoal(list(waypoints)))
 
     def _world_action(self, name: str, needs: str, goal: Any) -> TaskHandle:
@@ -515,8 +497,3 @@ def build_navigation(
         params: navigation settings (defaults: Nav2's, for the Burger).
     """
     return NavigationServer(sim, robot_base, world, lidar=lidar, params=params)
-
-
-def _as_pose(end: int | Pose2D | None) -> Pose2D | None:
-    """A route end as a pose: a node id stands for no pose (the route server places it)."""
-    return end if isinstance(end, Pose2D) else None

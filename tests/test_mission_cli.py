@@ -49,6 +49,7 @@ def test_validate_accepts_the_fixtures(capsys: pytest.CaptureFixture[str]) -> No
     assert (code, err) == (0, "")
     assert out.splitlines() == [
         f"{FIXTURES / 'delivery.yaml'}: ok (delivery: turtlebot3 in diner.yaml, 8 nodes)",
+        f"{FIXTURES / 'lanes_tour.yaml'}: ok (lanes_tour: turtlebot3 in lanes.yaml, 5 nodes)",
         f"{FIXTURES / 'patrol.yaml'}: ok (patrol: turtlebot3 in walls, 27 nodes)",
         f"{FIXTURES / 'pick.yaml'}: ok (pick_and_place: panda in panda_table, 11 nodes)",
         f"{FIXTURES / 'ros_listener.yaml'}: ok (ros_listener: turtlebot3 in walls, 3 nodes)",

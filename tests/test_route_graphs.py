@@ -21,6 +21,8 @@ import pytest
 from navigation_rig import ContactWatch
 
 from baobab.missions.cli.command_line import main
+from baobab.missions.language.errors import MissionError
+from baobab.missions.language.loader import load_mission
 from baobab.nav import BasicNavigator, RunningTask, TaskResult
 from baobab.nav.errors import ComputeRouteError, NavigationError
 from baobab.nav.msgs import pose_stamped
@@ -144,7 +146,7 @@ def test_a_graph_the_world_makes_impossible_is_a_located_error(tmp_path: Path) -
 def test_a_missions_dangling_edge_fails_validation_with_exit_2(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    write_graph(tmp_path / "lanes.geojson", [*TWO_NODES, edge(3, 1, 9)])
+    write_graph(tmp_path / "lanes.geojson", [node(1, -2.5, 0.0), node(2, -1.5, 1.5), edge(3, 1, 9)])
     for name in ("lanes.yaml",):
         (tmp_path / name).write_text((WORLDS / name).read_text().replace("route_graph: ", "# "))
     mission = tmp_path / "mission.yaml"
@@ -156,6 +158,16 @@ def test_a_missions_dangling_edge_fails_validation_with_exit_2(
     printed = capsys.readouterr()
     assert f"{tmp_path / 'lanes.geojson'}:5:59: " in printed.err + printed.out
     assert "edge 3 is dangling: its endid 9 is no node's id" in printed.err + printed.out
+    # Mended, the mission's graph takes the world's place (a world without one of its own).
+    lane = [node(1, -2.5, 0.0), node(2, -1.5, 1.5), edge(3, 1, 2)]
+    write_graph(tmp_path / "lanes.geojson", lane)
+    loaded = load_mission(mission)
+    assert loaded.world is not None and loaded.world.routes is not None
+    assert [n.id for n in loaded.world.routes.nodes] == [1, 2]
+    assert load_world(tmp_path / "lanes.yaml").routes is None
+    mission.write_text(mission.read_text().replace("follow_route: 2", "follow_route: 5"))
+    with pytest.raises(MissionError, match=r"mission.yaml:5:\d+: .*no node of the route graph"):
+        load_mission(mission)
 
 
 # -- the planner against brute force ---------------------------------------------------------

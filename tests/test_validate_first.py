@@ -59,7 +59,8 @@ def test_error_code_names_are_those_of_the_robots_capabilities() -> None:
         for value in vars(nav_errors).values()
         if isinstance(value, type) and issubclass(value, enum.IntEnum) and value is not enum.IntEnum
     ]
-    assert len(nav_enums) == 12
+    assert len(nav_enums) == 15  # with the route server's two and the GPS follower's
+    assert mobile["NO_VALID_ROUTE"] == {405} and mobile["OPERATION_FAILED"] == {406}
     assert all(member.name in mobile for codes_enum in nav_enums for member in codes_enum)
 
 
