@@ -225,8 +225,13 @@ class MissionScope:
         )
 
     def free_space_problem(self, pose: Pose) -> str | None:
-        """Why a mobile base cannot stand at ``pose`` (off the floor, in an obstacle), or None."""
-        if self.world is None or not self.robot.mobile:
+        """Why a mobile base cannot stand at ``pose`` (off the floor, in an obstacle), or None.
+
+        A circular footprint is checked by its centre's distance; a polygon at the pose's yaw,
+        against the obstacles and the floor edge.
+        """
+        footprint = self.robot.footprint
+        if self.world is None or footprint is None:
             return None
         world = self.world
         if not world.contains(pose.x, pose.y):
@@ -234,6 +239,14 @@ class MissionScope:
             return (
                 f"{pose.describe()} is outside the floor of world '{world.name}' "
                 f"(x {x_min:g}..{x_max:g}, y {y_min:g}..{y_max:g})"
+            )
+        if not footprint.is_circle:
+            name, clearance = footprint.clearance_in(world, pose.pose2d())
+            if clearance > 0.0:
+                return None
+            return (
+                f"{pose.describe()} is too narrow for robot '{self.robot.name}': its footprint "
+                f"at yaw {pose.yaw:.2f} rad reaches {-clearance:.3f} m into '{name}'"
             )
         distances = obstacle_distances_at(world, pose.x, pose.y)
         if not distances:

@@ -1,19 +1,25 @@
 """All of baobab's performance figures in one table, each measured in this run.
 
-    python bench/run.py                 # every figure but the test suite (a few minutes)
+    python bench/run.py                 # every figure but the test suite (several minutes)
     python bench/run.py --with-tests    # also time `pytest -n 2` (about 3 more minutes)
     python bench/run.py --only planner startup
-    python bench/run.py --only longrun badinputs   # optional sections, not in the default set
+    python bench/run.py --only robots    # cafe_delivery's real-time factor on each mobile robot
+    python bench/run.py --only install --with-tests  # fresh clones, venvs and installs (long)
+    python bench/run.py --only longrun badinputs     # optional sections, not in the default set
 
-Ratios are taken against a baseline measured in the same run (bare MuJoCo stepping of the same
-model), so machine noise cancels. Prints a table (figure, value, target, met?) and writes
-bench.json. Targets come from the performance issue.
+Every figure names the mission it comes from. Ratios are taken against a baseline measured in
+the same run (bare MuJoCo stepping of the same model, a bare ``import mujoco``), so machine
+noise cancels; wall-clock figures of whole processes are medians of repeats. A mission that
+fails is in the table as FAILED, with why. Prints a table (figure, value, target, met?) with
+the load average before and after, and writes bench.json. Targets come from the performance
+issues. Process-level sections live in ``bench_whole_run.py``.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -22,57 +28,31 @@ import sysconfig
 import tempfile
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
 REPO = Path(__file__).resolve().parents[1]
-MOBILE_MISSIONS = (
-    "walls_go_to_goal",
-    "walls_bug2",
-    "cafe_delivery",
-    "waypoint_patrol",
-    "farm_rows",
-    "town_nav_to_pose",
-    "assisted_teleop",
+sys.path.insert(0, str(REPO / "bench"))
+
+from bench_whole_run import (  # noqa: E402  (beside this script)
+    Figure,
+    baobab_command,
+    compiled_env,
+    install_figures,
+    mission_process_figures,
+    suite_figures,
+    whole_figures,
 )
-ARM_MISSIONS = ("panda_pick",)
+
+ROBOT_MISSION = "cafe_delivery"
+"""The mission every bundled mobile robot runs for the per-robot real-time factor."""
 
 
-@dataclass
-class Figure:
-    """One measured figure and its target."""
+def _bundled_missions() -> list[str]:
+    from baobab.missions.language.bundled_missions import bundled_missions
 
-    name: str
-    value: float
-    unit: str
-    target: float
-    higher_is_better: bool
-    command: str
-
-    @property
-    def met(self) -> bool:
-        """True when the value reaches the target."""
-        if self.higher_is_better:
-            return self.value >= self.target
-        return self.value <= self.target
-
-
-def _baobab_command() -> list[str]:
-    return [str(Path(sys.executable).with_name("baobab"))]
-
-
-def _compiled_env(cache: str) -> dict[str, str]:
-    """The environment of an installed baobab: modules compiled to bytecode once, then reused.
-
-    A development shell may set PYTHONDONTWRITEBYTECODE (this one does), which makes every
-    process compile baobab's modules from source again (~0.1 s at start-up); the bytecode goes
-    to a private cache here instead of the source tree.
-    """
-    env = dict(os.environ)
-    env.pop("PYTHONDONTWRITEBYTECODE", None)
-    env["PYTHONPYCACHEPREFIX"] = cache
-    return env
+    return list(bundled_missions())
 
 
 def _bundled(name: str) -> Path:
@@ -81,13 +61,16 @@ def _bundled(name: str) -> Path:
     return Path(resolve_mission(name))
 
 
-def _run_in_process(name: str, runs: int = 2) -> tuple[float, float, float]:
-    """Run a bundled mission in this process; return (sim time, loop wall time, bare wall time).
+def _run_in_process(
+    name: str, runs: int = 2, robot: str | None = None
+) -> tuple[float, float, float]:
+    """Run a bundled mission in this process (on ``robot`` instead of its own, if given);
+    return (sim time, loop wall time, bare wall time).
 
     The loop time is the best of ``runs`` runs: the first run of a process also loads the
-    compiled kernels' caches, which is start-up (figure 4), not simulation speed. The bare
-    time steps a fresh MjData of the same MjModel with ``mj_step`` for the same sim duration,
-    right after the runs, so both see the same machine load.
+    compiled kernels' caches, which is start-up (the ``startup`` and ``missions`` figures),
+    not simulation speed. The bare time steps a fresh MjData of the same MjModel with
+    ``mj_step`` for the same sim duration, right after the runs, so both see the same load.
     """
     import mujoco
 
@@ -95,7 +78,7 @@ def _run_in_process(name: str, runs: int = 2) -> tuple[float, float, float]:
     from baobab.missions.run.rig import build_rig
     from baobab.missions.run.runner import run_mission
 
-    mission = load_mission(_bundled(name))
+    mission = load_mission(_bundled(name), robot=robot)
     records = [run_mission(mission) for _ in range(runs)]
     record = min(records, key=lambda run: run.wall_time)
     sim_time = float(record.outcome.sim_time)
@@ -109,82 +92,31 @@ def _run_in_process(name: str, runs: int = 2) -> tuple[float, float, float]:
 
 
 def mission_figures() -> list[Figure]:
-    """Figures 1 and 2: cafe_delivery overhead over bare physics; RTF of every mission."""
-    figures: list[Figure] = []
-    for name in MOBILE_MISSIONS + ARM_MISSIONS:
-        try:
-            sim_time, wall, bare = _run_in_process(name)
-        except Exception as exc:  # a mission that does not exist yet or fails: say so
-            print(f"  {name}: not measured ({type(exc).__name__}: {exc})", file=sys.stderr)
-            continue
-        arm = name in ARM_MISSIONS
+    """Every bundled mission as a process (loop and whole RTF); cafe_delivery's overhead."""
+    figures = mission_process_figures(_bundled_missions())
+    command = "python bench/run.py --only missions"
+    try:
+        _sim, wall, bare = _run_in_process("cafe_delivery")
+    except Exception as exc:  # a failing mission is a row of the table
+        failed = f"{type(exc).__name__}: {exc}"
         figures.append(
             Figure(
-                f"real-time factor {name}",
-                sim_time / wall,
-                "x",
-                20.0 if arm else 100.0,
-                True,
-                f"baobab run {name} --json (sim_time / wall_time)",
+                "cafe_delivery loop / bare mj_step",
+                math.nan,
+                "ratio",
+                3.0,
+                False,
+                command,
+                failed=failed,
             )
         )
-        if name == "cafe_delivery":
-            figures.append(
-                Figure(
-                    "mission overhead cafe_delivery (wall / bare mj_step)",
-                    wall / bare,
-                    "ratio",
-                    3.0,
-                    False,
-                    "python bench/run.py --only missions",
-                )
-            )
-    return figures
-
-
-def planner_figures(queries: int = 200, seed: int = 0) -> list[Figure]:
-    """Figure 3: A* query time (median, p95) on the cafe and farm maps."""
-    import numpy as np
-
-    from baobab.nav.layered_costmap import LayeredCostmap
-    from baobab.nav.planner import GlobalPlanner
-    from baobab.sim.geometry import clearance
-    from baobab.sim.world import Pose2D, load_world
-
-    figures: list[Figure] = []
-    for world_name in ("cafe", "farm"):
-        world = load_world(world_name)
-        costmap = LayeredCostmap.global_costmap(world).costmap
-        planner = GlobalPlanner()
-        rng = np.random.default_rng(seed)
-        x_min, y_min, x_max, y_max = world.bounds
-        diagonal = float(np.hypot(x_max - x_min, y_max - y_min))
-        times: list[float] = []
-        while len(times) < queries:
-            points = rng.uniform((x_min, y_min), (x_max, y_max), size=(2, 2))
-            if np.linalg.norm(points[0] - points[1]) < diagonal / 3:
-                continue
-            if (clearance(world, points) < 0.3).any():
-                continue
-            start, goal = (Pose2D(x=float(p[0]), y=float(p[1])) for p in points)
-            began = time.perf_counter()
-            try:
-                planner.create_plan(start, goal, costmap)
-            except Exception:
-                continue
-            times.append((time.perf_counter() - began) * 1e3)
-        command = "python bench/run.py --only planner"
+    else:
         figures.append(
             Figure(
-                f"planner median {world_name}", statistics.median(times), "ms", 5.0, False, command
-            )
-        )
-        figures.append(
-            Figure(
-                f"planner p95 {world_name}",
-                float(np.percentile(times, 95)),
-                "ms",
-                20.0,
+                "cafe_delivery loop / bare mj_step of its model",
+                wall / bare,
+                "ratio",
+                3.0,
                 False,
                 command,
             )
@@ -192,71 +124,222 @@ def planner_figures(queries: int = 200, seed: int = 0) -> list[Figure]:
     return figures
 
 
-def startup_figures(repeats: int = 3) -> list[Figure]:
-    """Figure 4: process start to the first tree tick; `baobab validate` of every mission.
+def robot_figures() -> list[Figure]:
+    """The real-time factor of the same mission (:data:`ROBOT_MISSION`) on each mobile robot,
+    and its ratio to the default robot's (both measured in this run)."""
+    from baobab.robots.catalog import DEFAULT_MOBILE_ROBOT, MOBILE_ROBOTS
 
-    Each command runs once untimed first, so the bytecode cache is warm (see _compiled_env).
+    figures: list[Figure] = []
+    factors: dict[str, float] = {}
+    for robot in MOBILE_ROBOTS:
+        sim_time, wall, _ = _run_in_process(ROBOT_MISSION, robot=robot)
+        factors[robot] = sim_time / wall
+        figures.append(
+            Figure(
+                f"real-time factor {ROBOT_MISSION} on {robot}",
+                factors[robot],
+                "x",
+                100.0,
+                True,
+                f"baobab run {ROBOT_MISSION} --robot {robot} --json (sim_time / wall_time)",
+            )
+        )
+    for robot in MOBILE_ROBOTS:
+        if robot != DEFAULT_MOBILE_ROBOT:
+            figures.append(
+                Figure(
+                    f"real-time factor {robot} / {DEFAULT_MOBILE_ROBOT} ({ROBOT_MISSION})",
+                    factors[robot] / factors[DEFAULT_MOBILE_ROBOT],
+                    "ratio",
+                    0.5,
+                    True,
+                    "python bench/run.py --only robots",
+                )
+            )
+    return figures
+
+
+def _planner_queries(world_name: str, queries: int, seed: int) -> tuple[list[float], list[float]]:
+    """Plan between ``queries`` seeded random points of the world's bounds; every query is
+    timed, those near or inside obstacles too: (successes' ms, failures' ms)."""
+    import numpy as np
+
+    from baobab.nav.errors import NavigationError
+    from baobab.nav.layered_costmap import LayeredCostmap
+    from baobab.nav.planner import GlobalPlanner
+    from baobab.sim.world import Pose2D, load_world
+
+    world = load_world(world_name)
+    costmap = LayeredCostmap.global_costmap(world).costmap
+    planner = GlobalPlanner()
+    rng = np.random.default_rng(seed)
+    x_min, y_min, x_max, y_max = world.bounds
+    diagonal = float(np.hypot(x_max - x_min, y_max - y_min))
+    planned: list[float] = []
+    failed: list[float] = []
+    while len(planned) + len(failed) < queries:
+        points = rng.uniform((x_min, y_min), (x_max, y_max), size=(2, 2))
+        if np.linalg.norm(points[0] - points[1]) < diagonal / 3:
+            continue  # long queries only; where they start or end is not filtered
+        start, goal = (Pose2D(x=float(p[0]), y=float(p[1])) for p in points)
+        began = time.perf_counter()
+        try:
+            planner.create_plan(start, goal, costmap)
+        except NavigationError:  # a refused query is timed as a failure
+            failed.append((time.perf_counter() - began) * 1e3)
+        else:
+            planned.append((time.perf_counter() - began) * 1e3)
+    return planned, failed
+
+
+def planner_figures(queries: int = 200, seed: int = 0) -> list[Figure]:
+    """A* query time on the cafe and farm maps: all queries, and the failed ones apart."""
+    import numpy as np
+
+    figures: list[Figure] = []
+    command = "python bench/run.py --only planner"
+    for world_name in ("cafe", "farm"):
+        planned, failed = _planner_queries(world_name, queries, seed)
+        every = planned + failed
+        figures += [
+            Figure(
+                f"planner median {world_name} (all {len(every)} queries)",
+                statistics.median(every),
+                "ms",
+                5.0,
+                False,
+                command,
+            ),
+            Figure(
+                f"planner p95 {world_name} (all queries)",
+                float(np.percentile(every, 95)),
+                "ms",
+                20.0,
+                False,
+                command,
+            ),
+            Figure(
+                f"planner failed queries {world_name} (start or goal blocked, no path)",
+                len(failed),
+                "count",
+                None,
+                False,
+                command,
+            ),
+        ]
+        if failed:
+            figures.append(
+                Figure(
+                    f"planner median of the failed queries {world_name}",
+                    statistics.median(failed),
+                    "ms",
+                    None,
+                    False,
+                    command,
+                )
+            )
+    return figures
+
+
+def _time_to_first_tick(mission: str, out: str, env: dict[str, str]) -> float:
+    """Process start to the first progress line of ``baobab run MISSION`` (s)."""
+    began = time.perf_counter()
+    process = subprocess.Popen(
+        [*baobab_command(), "run", mission, "--out", out],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+        env=env,
+    )
+    assert process.stdout is not None
+    process.stdout.readline()  # "running <title>": the mission is loaded
+    process.stdout.readline()  # the first progress line is written at the first tick
+    elapsed = time.perf_counter() - began
+    process.kill()
+    process.wait()
+    return elapsed
+
+
+def startup_figures(repeats: int = 3) -> list[Figure]:
+    """Process start to the first tree tick (walls_go_to_goal, cafe_delivery); `validate`.
+
+    Each command runs once untimed first, so the bytecode cache is warm (see compiled_env).
     """
-    first_tick: list[float] = []
     missions = sorted(str(path) for path in (REPO / "missions").glob("*.yaml"))
+    figures: list[Figure] = []
     validate: list[float] = []
     with tempfile.TemporaryDirectory() as out:
-        env = _compiled_env(f"{out}/pycache")
-        for index in range(repeats + 1):
-            began = time.perf_counter()
-            process = subprocess.Popen(
-                [*_baobab_command(), "run", "walls_go_to_goal", "--out", f"{out}/{index}"],
-                stdout=subprocess.PIPE,
-                stderr=subprocess.DEVNULL,
-                text=True,
-                env=env,
+        env = compiled_env(f"{out}/pycache")
+        for mission in ("walls_go_to_goal", "cafe_delivery"):
+            ticks = [
+                _time_to_first_tick(mission, f"{out}/{mission}-{index}", env)
+                for index in range(repeats + 1)
+            ][1:]
+            figures.append(
+                Figure(
+                    f"start-up {mission}: process start to first tick (median)",
+                    statistics.median(ticks),
+                    "s",
+                    1.0,
+                    False,
+                    f"baobab run {mission} (time to the first progress line)",
+                )
             )
-            assert process.stdout is not None
-            process.stdout.readline()  # "running <title>": the mission is loaded
-            process.stdout.readline()  # the first progress line is written at the first tick
-            if index:
-                first_tick.append(time.perf_counter() - began)
-            process.kill()
-            process.wait()
         for index in range(repeats + 1):
             began = time.perf_counter()
             subprocess.run(
-                [*_baobab_command(), "validate", *missions],
+                [*baobab_command(), "validate", *missions],
                 check=False,
                 capture_output=True,
                 env=env,
             )
             if index:
                 validate.append(time.perf_counter() - began)
-    return [
+    figures.append(
         Figure(
-            "start-up: process start to first tick",
-            min(first_tick),
-            "s",
-            1.0,
-            False,
-            "baobab run walls_go_to_goal (time to the first progress line)",
-        ),
-        Figure(
-            f"start-up: baobab validate of {len(missions)} missions",
-            min(validate),
+            f"start-up: baobab validate of {len(missions)} missions (median)",
+            statistics.median(validate),
             "s",
             0.5,
             False,
             "baobab validate missions/*.yaml",
-        ),
-    ]
+        )
+    )
+    return figures
 
 
 def arm_figures() -> list[Figure]:
-    """Figure 5: microseconds per impedance control step."""
-    sys.path.insert(0, str(REPO / "bench"))
-    from bench_panda import bench_control_step
+    """The Panda's control law as one call, beside its whole 1 kHz loop inside mj_step."""
+    from bench_panda import bench_control_step, bench_loop_in_simulation
 
     step = bench_control_step()
-    value = float(step.get("median_us", step.get("us", float("nan"))))
+    loop = bench_loop_in_simulation()
+    command = "python bench/bench_panda.py"
     return [
-        Figure("arm control step", value, "us", 30.0, False, "python bench/bench_panda.py (median)")
+        Figure(
+            "arm control law, one compute_torque call (median)",
+            step["median_us"],
+            "us",
+            30.0,
+            False,
+            command,
+        ),
+        Figure(
+            "arm whole 1 kHz loop per physics step, CPU (with the loop - without)",
+            loop["control_in_step_us"],
+            "us",
+            None,
+            False,
+            command,
+        ),
+        Figure(
+            "arm physics alone per step, CPU (mj_step detached)",
+            loop["physics_us"],
+            "us",
+            None,
+            False,
+            command,
+        ),
     ]
 
 
@@ -293,43 +376,46 @@ def _set_page_cache(libraries: list[Path], *, read: bool) -> None:
             os.close(descriptor)
 
 
-def _peak_memory_mb(out: str) -> float:
-    """ru_maxrss (MB) of the largest process of one `baobab run cafe_delivery`.
+_PEAKS = """\
+import json, resource, sys
+from baobab.missions.cli.command_line import main
+code = main(sys.argv[1:])
+own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+child = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+print(json.dumps({"code": code, "parent_kb": own, "child_kb": child}), file=sys.stderr)
+"""
+"""`baobab run` in this process (its parent) and its forked run: each one's peak RSS (KB)."""
 
-    Taken in a wrapper process: RUSAGE_CHILDREN keeps the largest child a process ever waited
-    for, so in this one the earlier sections' children would count too.
+
+def _peak_memory_mb(out: str) -> tuple[float, float]:
+    """Peak RSS (MB) of both processes of one `baobab run cafe_delivery`: (parent, child).
+
+    The command runs as the main of a fresh interpreter, so that interpreter is the run's
+    parent (the process that writes the run folder) and its only child is the run's process.
     """
     process = subprocess.run(
-        [
-            sys.executable,
-            "-c",
-            "import resource, subprocess, sys\n"
-            "subprocess.run(sys.argv[1:], check=False, capture_output=True)\n"
-            "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)\n",
-            *_baobab_command(),
-            "run",
-            "cafe_delivery",
-            "--json",
-            "--out",
-            out,
-        ],
+        [sys.executable, "-c", _PEAKS, "run", "cafe_delivery", "--json", "--out", out],
         check=True,
         capture_output=True,
         text=True,
     )
-    return int(process.stdout) / 1024
+    peaks = json.loads(process.stderr.strip().splitlines()[-1])
+    return peaks["parent_kb"] / 1024, peaks["child_kb"] / 1024
 
 
 def memory_figures() -> list[Figure]:
-    """Figure 6: peak resident memory of `baobab run cafe_delivery` (its largest process).
+    """Peak resident memory of `baobab run cafe_delivery`: its largest process and the sum.
 
-    Measured with the libraries paged in on demand and freshly read (see _set_page_cache);
-    each is the larger of two runs, after a first run that warms numba's kernel cache. Pages
-    mapped by a running process cannot be dropped, so :func:`main` measures this first, before
-    this process loads MuJoCo, NumPy or numba itself.
+    The two processes overlap in time (the parent loads matplotlib while the child runs), so
+    the sum of their peaks is what the machine may need at once. Measured with the libraries
+    paged in on demand and freshly read (see _set_page_cache); each is the larger of two runs,
+    after a first run that warms numba's kernel cache. Pages mapped by a running process cannot
+    be dropped, so :func:`main` measures this first, before this process loads MuJoCo, NumPy or
+    numba itself.
     """
     libraries = _shared_libraries() if hasattr(os, "posix_fadvise") else []
     figures: list[Figure] = []
+    command = "baobab run cafe_delivery (ru_maxrss of its parent and its run's process)"
     with tempfile.TemporaryDirectory() as out:
         _peak_memory_mb(f"{out}/warm")
         for label, read in (("paged in on demand", False), ("freshly read", True)):
@@ -337,16 +423,26 @@ def memory_figures() -> list[Figure]:
             for index in range(2):
                 _set_page_cache(libraries, read=read)
                 peaks.append(_peak_memory_mb(f"{out}/{label}-{index}"))
-            figures.append(
+            largest = max(max(pair) for pair in peaks)
+            both = max(sum(pair) for pair in peaks)
+            figures += [
                 Figure(
-                    f"peak memory of one mission run (libraries {label})",
-                    max(peaks),
+                    f"peak memory cafe_delivery, largest process (libraries {label})",
+                    largest,
                     "MB",
                     300.0,
                     False,
-                    "baobab run cafe_delivery (ru_maxrss of its largest process)",
-                )
-            )
+                    command,
+                ),
+                Figure(
+                    f"peak memory cafe_delivery, both processes (libraries {label})",
+                    both,
+                    "MB",
+                    None,
+                    False,
+                    command,
+                ),
+            ]
     return figures
 
 
@@ -453,7 +549,7 @@ def script_sleep_figures() -> list[Figure]:
 
 
 def test_suite_figures() -> list[Figure]:
-    """Figure 7: wall time of the whole test suite with two workers."""
+    """Wall time of the whole test suite with two workers."""
     began = time.perf_counter()
     subprocess.run(
         [sys.executable, "-m", "pytest", "-n", "2", "-q", "-p", "no:cacheprovider"],
@@ -466,11 +562,14 @@ def test_suite_figures() -> list[Figure]:
 
 
 SECTIONS: dict[str, Callable[[], list[Figure]]] = {
+    "memory": memory_figures,
+    "whole": whole_figures,
     "missions": mission_figures,
+    "robots": robot_figures,
+    "suite": suite_figures,
     "planner": planner_figures,
     "startup": startup_figures,
     "arm": arm_figures,
-    "memory": memory_figures,
     "ros": ros_figures,
     "scripts": script_sleep_figures,
 }
@@ -481,32 +580,46 @@ OPTIONAL_SECTIONS: dict[str, Callable[[], list[Figure]]] = {
 """Sections that take several minutes each: measured only when named with --only."""
 
 
+def _row(figure: Figure, width: int) -> str:
+    relation = ">=" if figure.higher_is_better else "<="
+    target = f"{relation}{figure.target:>7g}" if figure.target is not None else " " * 9
+    met = {True: "yes", False: "NO", None: ""}[figure.met]
+    if figure.failed is not None:
+        return f"{figure.name:<{width}}  {'FAILED':>13} {target}  NO   {figure.failed}"
+    return f"{figure.name:<{width}}  {figure.value:>8.2f} {figure.unit:<4} {target}  {met}"
+
+
 def main() -> None:
     """Measure, print the table, write bench.json."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument(
-        "--only", nargs="+", choices=sorted(SECTIONS | OPTIONAL_SECTIONS), default=None
-    )
+    choices = sorted(SECTIONS | OPTIONAL_SECTIONS) + ["install"]
+    parser.add_argument("--only", nargs="+", choices=choices, default=None)
     parser.add_argument("--with-tests", action="store_true", help="also time the test suite")
     parser.add_argument("--output", default="bench.json")
     args = parser.parse_args()
     os.environ.setdefault("MUJOCO_GL", "egl")
+    load_before = os.getloadavg()
     figures: list[Figure] = []
     chosen = args.only or list(SECTIONS)
     for name in sorted(chosen, key=lambda section: section != "memory"):  # memory first
         print(f"measuring {name} ...", file=sys.stderr)
-        figures.extend((SECTIONS | OPTIONAL_SECTIONS)[name]())
-    if args.with_tests:
+        if name == "install":  # fresh clones and venvs: with --with-tests, CI's first suite
+            figures.extend(install_figures(with_tests=args.with_tests))
+        else:
+            figures.extend((SECTIONS | OPTIONAL_SECTIONS)[name]())
+    if args.with_tests and "install" not in chosen:
         figures.extend(test_suite_figures())
+    load_after = os.getloadavg()
     width = max(len(figure.name) for figure in figures)
     print(f"{'figure':<{width}}  {'value':>10}  {'target':>10}  met?")
     for figure in figures:
-        relation = ">=" if figure.higher_is_better else "<="
-        print(
-            f"{figure.name:<{width}}  {figure.value:>8.2f} {figure.unit:<4}"
-            f" {relation}{figure.target:>7g}  {'yes' if figure.met else 'NO'}"
-        )
-    report = [{**asdict(figure), "met": figure.met} for figure in figures]
+        print(_row(figure, width))
+    print(f"load average (1 min) before / after: {load_before[0]:.1f} / {load_after[0]:.1f}")
+    report = {
+        "load_average_before": load_before,
+        "load_average_after": load_after,
+        "figures": [{**asdict(figure), "met": figure.met} for figure in figures],
+    }
     Path(args.output).write_text(json.dumps(report, indent=2) + "\n")
 
 

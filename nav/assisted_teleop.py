@@ -14,7 +14,7 @@ import numpy as np
 
 from baobab.nav.behaviors import Behavior, BehaviorContext
 from baobab.nav.errors import AssistedTeleopError
-from baobab.nav.footprint import lethal_distances, project_motion
+from baobab.nav.footprint import lethal_distances, outline_lethal_distances, project_motion
 from baobab.sim.tasks import TaskOutcome
 
 CLEARANCE_TOLERANCE = 1e-6
@@ -35,10 +35,12 @@ class AssistedTeleop(Behavior):
       footprint on the local costmap at each step. A collision at the first step sends zero;
       at time ``t`` the twist is scaled by ``t / projection_time``; none sends it unchanged.
 
-    The footprint is the local costmap's inscribed radius plus ``teleop_footprint_padding``,
-    checked exactly against lethal cells (:func:`~baobab.nav.footprint.lethal_distances`;
-    Nav2 checks the footprint outline for lethal cost), so the robot stops with at least the
-    padding between its footprint and the obstacle. One addition to Nav2: a robot already
+    The footprint is the local costmap's inscribed radius (a circle) or its polygon, kept
+    ``teleop_footprint_padding`` away from lethal cells, checked exactly against them
+    (:func:`~baobab.nav.footprint.lethal_distances`,
+    :func:`~baobab.nav.footprint.outline_lethal_distances`; Nav2 checks the footprint outline
+    for lethal cost), so the robot stops with at least the padding between its footprint and
+    the obstacle. One addition to Nav2: a robot already
     nearer than that to a lethal cell (an obstacle that appeared, a lidar hit marking the cell
     in front of a wall) is not frozen; a pose collides only if it comes nearer still, so the
     robot can turn in place and back away. The motion is integrated as exact arcs (Nav2 takes Euler
@@ -93,9 +95,21 @@ class AssistedTeleop(Behavior):
         if len(poses) == 0:
             return 1.0
         costmap = self.context.local_costmap()
+        if costmap.has_polygon:
+            reach = p.teleop_footprint_padding
+            now = np.array([[pose.x, pose.y, pose.yaw]])
+            current = outline_lethal_distances(costmap, costmap.outline, now, reach)[0]
+            ahead = outline_lethal_distances(costmap, costmap.outline, poses, reach)
+            return self._factor(ahead, reach, current)
         radius = costmap.inscribed_radius + p.teleop_footprint_padding
         current = lethal_distances(costmap, np.array([pose.x]), np.array([pose.y]), radius)[0]
         ahead = lethal_distances(costmap, poses[:, 0], poses[:, 1], radius)
+        return self._factor(ahead, radius, current)
+
+    def _factor(self, ahead: np.ndarray, radius: float, current: float) -> float:
+        """0, t/T or 1 from the projected poses' distances (m) to lethal cells: a pose hits
+        when it is nearer than ``radius`` and nearer than the robot is now (``current``)."""
+        p = self.params
         # A robot already nearer than the padded footprint (a new obstacle, a lidar mark a cell
         # in front of a wall) may turn and back away, but not come nearer still.
         hits = ahead < min(radius, current) - CLEARANCE_TOLERANCE

@@ -10,7 +10,9 @@ trees.
 Motion behaviours project their command ahead on the local costmap (``simulate_ahead_time``,
 2 s, in cycle steps) and end with COLLISION_AHEAD instead of driving into something. With a
 circular footprint that is the footprint's inscribed radius, a pose collides when the cost
-under its centre is ``INSCRIBED_INFLATED_OBSTACLE`` or more (:mod:`baobab.nav.footprint`).
+under its centre is ``INSCRIBED_INFLATED_OBSTACLE`` or more; a polygon footprint collides when
+its outline at the pose's yaw crosses a lethal cell (:mod:`baobab.nav.footprint`), so Spin
+checks the turn ahead too.
 """
 
 from __future__ import annotations
@@ -34,22 +36,26 @@ from baobab.nav.errors import (
 from baobab.nav.footprint import collision_mask
 from baobab.nav.interfaces import MobileBase
 from baobab.nav.layered_costmap import LayeredCostmap
+from baobab.robots.catalog import default_mobile_robot
 from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D
+
+_ROBOT = default_mobile_robot().tuning
 
 
 @dataclass(frozen=True)
 class BehaviorParams:
-    """Behaviour server settings: Nav2's defaults (Hz, s, rad/s, rad/s², m/s², m/s)."""
+    """Behaviour server settings (Hz, s, rad/s, rad/s², m/s², m/s): Nav2's defaults within a
+    robot's limits (the default robot's unless given)."""
 
     cycle_frequency: float = 10.0
     simulate_ahead_time: float = 2.0
-    max_rotational_vel: float = 1.0
-    min_rotational_vel: float = 0.4
-    rotational_acc_lim: float = 3.2
-    acceleration_limit: float = 2.5
-    deceleration_limit: float = -2.5
-    minimum_speed: float = 0.10
+    max_rotational_vel: float = _ROBOT.spin_speeds[1]
+    min_rotational_vel: float = _ROBOT.spin_speeds[0]
+    rotational_acc_lim: float = _ROBOT.max_angular_accel
+    acceleration_limit: float = _ROBOT.max_linear_accel
+    deceleration_limit: float = -_ROBOT.max_linear_accel
+    minimum_speed: float = _ROBOT.backup_min_speed
     projection_time: float = 1.0
     simulation_time_step: float = 0.1
     teleop_footprint_padding: float = 0.05
@@ -186,7 +192,9 @@ class Behavior(ABC):
         (never with :attr:`collision_checks` off)."""
         if len(poses) == 0 or not self.collision_checks:
             return False
-        return bool(collision_mask(self.context.local_costmap(), poses[:, 0], poses[:, 1]).any())
+        costmap = self.context.local_costmap()
+        hits = collision_mask(costmap, poses[:, 0], poses[:, 1], yaws=poses[:, 2])
+        return bool(hits.any())
 
 
 class Spin(Behavior):
@@ -225,12 +233,28 @@ class Spin(Behavior):
         speed = math.sqrt(2.0 * p.rotational_acc_lim * remaining)
         speed = min(max(speed, p.min_rotational_vel), p.max_rotational_vel)
         angular = math.copysign(speed, self.target_yaw)
-        # Nav2 simulates the rotation ahead up to the remaining angle; turning in place, a
-        # circular footprint stays where it is, so the projection is the current pose.
-        if self._projection_collides(np.array([[pose.x, pose.y, pose.yaw]])):
+        if self._projection_collides(self._turn_ahead(pose, angular, remaining)):
             return self._fail("COLLISION_AHEAD", "Collision Ahead - Exiting Spin")
         self.base.command(0.0, angular)
         return None
+
+    def _turn_ahead(self, pose: Pose2D, angular: float, remaining: float) -> np.ndarray:
+        """The poses Nav2 checks: the turn simulated in cycle steps for ``simulate_ahead_time``
+        at ``angular`` (rad/s), up to the ``remaining`` angle (rad), from the pose now.
+
+        Turning in place, a circular footprint stays where it is: the pose now is enough.
+        """
+        p = self.params
+        now = np.array([[pose.x, pose.y, pose.yaw]])
+        if not self.context.local_costmap().has_polygon:
+            return now
+        turned = (
+            angular * np.arange(int(p.cycle_frequency * p.simulate_ahead_time)) / p.cycle_frequency
+        )
+        turned = turned[remaining - np.abs(turned) > 0.0]
+        return np.column_stack(
+            [np.full(len(turned), pose.x), np.full(len(turned), pose.y), pose.yaw + turned]
+        )
 
 
 class DriveOnHeading(Behavior):

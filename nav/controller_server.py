@@ -23,22 +23,26 @@ from baobab.nav.feedback import path_tracking
 from baobab.nav.interfaces import MobileBase
 from baobab.nav.path import Path
 from baobab.nav.pure_pursuit import RegulatedPurePursuit, RegulatedPurePursuitParams
+from baobab.robots.catalog import default_mobile_robot
 from baobab.sim.tasks import TaskOutcome, TaskStatus
 from baobab.sim.world import Pose2D
+
+_ROBOT = default_mobile_robot().tuning
 
 
 @dataclass(frozen=True)
 class ControllerParams:
-    """Controller server settings: Nav2 bringup's (Hz, s, m, rad)."""
+    """Controller server settings: Nav2 bringup's (Hz, s, m, rad), the goal and progress
+    checkers' for a robot (the default one unless given)."""
 
     controller_frequency: float = 20.0
     failure_tolerance: float = 0.3
-    xy_goal_tolerance: float = 0.25
-    yaw_goal_tolerance: float = 0.25
+    xy_goal_tolerance: float = _ROBOT.goal_tolerances[0]
+    yaw_goal_tolerance: float = _ROBOT.goal_tolerances[1]
     stateful: bool = True
     path_length_tolerance: float = 1.0
-    required_movement_radius: float = 0.5
-    movement_time_allowance: float = 10.0
+    required_movement_radius: float = _ROBOT.progress[0]
+    movement_time_allowance: float = _ROBOT.progress[1]
     rpp: RegulatedPurePursuitParams = field(default_factory=RegulatedPurePursuitParams)
 
 

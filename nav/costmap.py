@@ -10,9 +10,11 @@ collision checks read it.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
+from baobab.robots.footprint import Footprint
 from baobab.sim.records import record
 
 FREE_SPACE = 0
@@ -38,6 +40,17 @@ GRID = np.dtype(
 beside it as their own array."""
 
 
+class CostmapArrays(NamedTuple):
+    """A costmap as compiled kernels read it (:meth:`Costmap2D.arrays`)."""
+
+    cells: np.ndarray
+    """``uint8`` costs, ``[row, col]``."""
+    grid: np.ndarray
+    """The :data:`GRID` record."""
+    outline: np.ndarray
+    """``(N, 2)`` polygon footprint in ``base_link`` (m); no rows for a circle."""
+
+
 class Costmap2D:
     """A grid of Nav2 cost values over a rectangle of the map frame.
 
@@ -49,6 +62,8 @@ class Costmap2D:
         default_value: cost every cell starts with.
         inscribed_radius: the robot's inscribed radius (m) the inflation used, for consumers
             that turn costs back into distances (Regulated Pure Pursuit's cost regulation).
+        footprint: the robot's footprint the collision checks lay on the cells; None or a
+            circle: a robot centre collides at ``INSCRIBED_INFLATED_OBSTACLE``.
     """
 
     def __init__(
@@ -59,6 +74,7 @@ class Costmap2D:
         origin: tuple[float, float] = (0.0, 0.0),
         default_value: int = FREE_SPACE,
         inscribed_radius: float = 0.0,
+        footprint: Footprint | None = None,
     ) -> None:
         if size_x <= 0 or size_y <= 0:
             raise ValueError(f"a costmap needs at least one cell, got {size_x} x {size_y}")
@@ -69,6 +85,10 @@ class Costmap2D:
         self.origin_y = float(origin[1])
         self.default_value = int(default_value)
         self.inscribed_radius = float(inscribed_radius)
+        self.footprint = footprint
+        vertices = () if footprint is None else footprint.polygon
+        self.outline = np.asarray(vertices, dtype=float).reshape(-1, 2)
+        """The polygon footprint's vertices in ``base_link`` (m); no rows for a circle."""
         self.data = np.full((size_y, size_x), default_value, dtype=np.uint8)
         self._packed_key: tuple[float, float, float, float] | None = None
         self._packed = np.empty(0, dtype=GRID)
@@ -82,6 +102,11 @@ class Costmap2D:
     def size_y(self) -> int:
         """Cells along y."""
         return int(self.data.shape[0])
+
+    @property
+    def has_polygon(self) -> bool:
+        """True when collisions are checked with a polygon footprint (:attr:`outline`)."""
+        return len(self.outline) > 0
 
     @property
     def origin(self) -> tuple[float, float]:
@@ -161,6 +186,10 @@ class Costmap2D:
             self._packed, self._packed_key = record(GRID, self), key
         return self._packed
 
+    def arrays(self) -> CostmapArrays:
+        """The cells, geometry and footprint as one :class:`CostmapArrays` (no copies)."""
+        return CostmapArrays(self.data, self.pack(), self.outline)
+
     def copy(self) -> Costmap2D:
         """An independent copy (geometry, metadata and cells)."""
         twin = Costmap2D(
@@ -170,6 +199,7 @@ class Costmap2D:
             self.origin,
             self.default_value,
             self.inscribed_radius,
+            self.footprint,
         )
         twin.data[:] = self.data
         return twin

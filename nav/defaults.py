@@ -32,6 +32,8 @@ class NavigatorDefaults:
 
     Attributes:
         world: a bundled world name (``"cafe"``) or a world YAML path.
+        robot: a bundled mobile robot's name or a robot file's path; None: the registry's
+            default mobile robot.
         start: the robot's start pose in the map frame; ``None`` is the world's default spawn.
         seed: seeds the run's one random generator (non-negative).
         realtime: pace the simulation to the wall clock (for watching); off, the simulation
@@ -39,6 +41,7 @@ class NavigatorDefaults:
     """
 
     world: str | Path = DEFAULT_WORLD
+    robot: str | Path | None = None
     start: Pose2D | None = None
     seed: int = 0
     realtime: bool = False
@@ -46,6 +49,10 @@ class NavigatorDefaults:
     def __post_init__(self) -> None:
         if not isinstance(self.world, str | Path) or not str(self.world):
             raise TypeError(f"world must be a world name or path, not {self.world!r}")
+        if self.robot is not None and (
+            not isinstance(self.robot, str | Path) or not str(self.robot)
+        ):
+            raise TypeError(f"robot must be a robot name or path, not {self.robot!r}")
         if self.start is not None and not isinstance(self.start, Pose2D):
             raise TypeError(f"start must be a Pose2D or None, not {self.start!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
@@ -67,6 +74,7 @@ def navigator_defaults() -> NavigatorDefaults:
 def use_navigator_defaults(
     *,
     world: str | Path | None = None,
+    robot: str | Path | None = None,
     start: Pose2D | None = None,
     seed: int | None = None,
     realtime: bool | None = None,
@@ -82,6 +90,7 @@ def use_navigator_defaults(
     current = navigator_defaults()
     updated = NavigatorDefaults(
         world=current.world if world is None else world,
+        robot=current.robot if robot is None else robot,
         start=current.start if start is None else start,
         seed=current.seed if seed is None else seed,
         realtime=current.realtime if realtime is None else realtime,

@@ -1,10 +1,11 @@
 """Where the navigation stack meets the robot, and where the server meets its tasks.
 
 :class:`MobileBase` and :class:`ScanSource` are what navigation needs from a robot. They are
-Protocols, so ``baobab.nav`` never imports a robot package: the TurtleBot3's ``DiffDriveBase``
-and ``Lidar`` satisfy them as they are, and so would any planar base whose pose is known in the
-map frame (the simulation localises perfectly). :class:`ServerTask` is what the navigation
-server runs: navigation trees, the waypoint follower, FollowPath and the behaviours.
+Protocols, so ``baobab.nav`` imports no robot's running code (only the registry's facts): the
+differential drive's ``DiffDriveBase`` and ``Lidar`` satisfy them as they are, and so would any
+planar base whose pose is known in the map frame (the simulation localises perfectly).
+:class:`ServerTask` is what the navigation server runs: navigation trees, the waypoint
+follower, FollowPath and the behaviours.
 """
 
 from __future__ import annotations

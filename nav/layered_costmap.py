@@ -36,22 +36,37 @@ from baobab.nav.window_kernels import (
     refresh_window_static,
     shift_grid,
 )
+from baobab.robots.catalog import default_mobile_robot
+from baobab.robots.footprint import Footprint
 from baobab.sim.lidar import LaserScan
 from baobab.sim.records import record
 from baobab.sim.world import Pose2D, World
 
+_ROBOT = default_mobile_robot().tuning
+"""The default mobile robot's settings (:mod:`baobab.robots.tuning`), for costmaps built
+without a robot's (:func:`baobab.nav.robot_params.navigation_params`)."""
+
 
 @dataclass(frozen=True)
 class CostmapParams:
-    """Costmap settings: Nav2's defaults with the TurtleBot3 Burger's footprint radius (m)."""
+    """Costmap settings (m, 1/m): Nav2's defaults with a robot's footprint and inflation.
+
+    ``footprint`` is Nav2's ``robot_radius`` or padded ``footprint`` polygon; its inscribed
+    radius is the inflation layer's.
+    """
 
     resolution: float = 0.05
-    robot_radius: float = 0.105
-    inflation_radius: float = 0.55
-    cost_scaling_factor: float = 3.0
+    footprint: Footprint = _ROBOT.footprint
+    inflation_radius: float = _ROBOT.inflation_radius
+    cost_scaling_factor: float = _ROBOT.cost_scaling_factor
     obstacle: ObstacleParams = field(default_factory=ObstacleParams)
     use_static_layer: bool = True
     use_obstacle_layer: bool = True
+
+    @property
+    def robot_radius(self) -> float:
+        """The footprint's inscribed radius (m)."""
+        return self.footprint.inscribed_radius
 
     @property
     def inflation(self) -> InflationParams:
@@ -87,7 +102,12 @@ class LayeredCostmap:
         res = static.resolution
         origin = (static.origin_x + ix0 * res, static.origin_y + iy0 * res)
         self._master = Costmap2D(
-            size_x, size_y, res, origin, inscribed_radius=self.params.robot_radius
+            size_x,
+            size_y,
+            res,
+            origin,
+            inscribed_radius=self.params.robot_radius,
+            footprint=self.params.footprint,
         )
         obstacle_grid = Costmap2D(size_x, size_y, res, origin)
         self.obstacle_layer = ObstacleLayer(obstacle_grid, self.params.obstacle)

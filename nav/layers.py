@@ -24,6 +24,7 @@ from baobab.nav.costmap import (
 )
 from baobab.nav.raytrace_kernels import OBSTACLE_RANGES, RayTracer, cell_thresholds, trace_scan
 from baobab.nav.window_kernels import inflation_costs, shift_grid
+from baobab.robots.catalog import default_mobile_robot
 from baobab.sim.errors import BaobabError
 from baobab.sim.lidar import LaserScan
 from baobab.sim.records import record
@@ -275,9 +276,11 @@ class ObstacleLayer:
 
 @dataclass(frozen=True)
 class InflationParams:
-    """Inflation around lethal cells (m); the Burger's radius and Nav2 Humble's defaults."""
+    """Inflation around lethal cells (m, 1/m): a robot's inscribed radius (the default mobile
+    robot's unless :class:`~baobab.nav.layered_costmap.CostmapParams` gives one) and Nav2
+    Humble's defaults."""
 
-    inscribed_radius: float = 0.105
+    inscribed_radius: float = default_mobile_robot().tuning.footprint.inscribed_radius
     inflation_radius: float = 0.55
     cost_scaling_factor: float = 3.0
 

@@ -2,7 +2,7 @@
 
 A Nav2 script drives a robot through ``nav2_simple_commander.robot_navigator.BasicNavigator``:
 send a goal, poll ``isTaskComplete()``, read ``getFeedback()``, then ``getResult()``. Here the
-same calls drive the :class:`~baobab.nav.server.NavigationServer` of a TurtleBot3 in a MuJoCo
+same calls drive the :class:`~baobab.nav.server.NavigationServer` of a mobile robot in a MuJoCo
 world that the navigator builds for itself. Method names, parameters, defaults, feedback field
 names and message types are those of Nav2's current release (reference/nav2.md §1-§2,
 nav2_ros_facts.md §4-§5), with every older release's names kept (``isNavComplete``,
@@ -117,7 +117,7 @@ class BasicNavigator(NavigatorExternal):
         except GoalRejectedError as exc:
             raise NavigatorSetupError(str(exc)) from None
         self._live_server()
-        check_free(self._world, pose, self._rig.footprint_radius, what="initial pose")
+        check_free(self._world, pose, self._rig.footprint, what="initial pose")
         self.info("Publishing Initial Pose")
         self._rig.teleport(pose)
         self.initial_pose = copy.deepcopy(initial_pose)
@@ -294,7 +294,7 @@ class BasicNavigator(NavigatorExternal):
             self._set_task_error((int(code), str(exc)))
             return False
         pose = self._rig.base.pose()
-        start = pose if pose_is_free(world, pose, self._rig.footprint_radius) else world.spawn
+        start = pose if pose_is_free(world, pose, self._rig.footprint) else world.spawn
         server.close()  # cancels the running task
         self._time_offset = self._sim_seconds()
         self._rig, self._server = self._build(world, start)

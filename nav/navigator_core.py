@@ -17,12 +17,14 @@ from pathlib import Path as FilePath
 
 from baobab.nav import msgs
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
-from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot
+from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot, navigator_robot
 from baobab.nav.navigator_time import NavigatorWaits
+from baobab.nav.robot_params import navigation_params
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
 from baobab.nav.server import NavigationServer, build_navigation
 from baobab.nav.world_servers import WorldServers, attach_world_servers
+from baobab.robots.catalog import RobotInfo
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
 from baobab.sim.world import Pose2D, World, load_world
@@ -53,18 +55,21 @@ class NavigatorCore(Node):
         node_name: the node's name (and its logger's).
         namespace: the node's namespace.
         world: a bundled world name, a world YAML path or a loaded ``World``.
-        robot: the robot model; ``"turtlebot3"`` (a Burger) is the one there is.
+        robot: a bundled mobile robot's name (``baobab list``), a robot file's path, or a
+            registry entry; None: what :func:`~baobab.nav.defaults.navigator_defaults` says
+            (``baobab nav2 --robot``), else the registry's default mobile robot.
         start: the robot's map-frame start pose; the world's default spawn when None.
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
 
-    ``world``, ``start``, ``seed`` and ``realtime`` left at None take the values of
+    ``world``, ``robot``, ``start``, ``seed`` and ``realtime`` left at None take the values of
     :func:`~baobab.nav.defaults.navigator_defaults` (what ``baobab nav2 --world ...`` sets);
     the default start applies only with the default world.
 
     Raises:
         WorldError: the world cannot be loaded (located message).
         NavigatorSetupError: an unknown robot, or a start pose that is not free.
+        RobotFileError: a robot file that cannot be used (located message).
         TypeError: an argument of the wrong type.
     """
 
@@ -74,7 +79,7 @@ class NavigatorCore(Node):
         namespace: str = "",
         *,
         world: str | FilePath | World | None = None,
-        robot: str = "turtlebot3",
+        robot: str | FilePath | RobotInfo | None = None,
         start: Pose2D | None = None,
         seed: int | None = None,
         realtime: bool | None = None,
@@ -87,7 +92,7 @@ class NavigatorCore(Node):
             realtime=defaults.realtime if realtime is None else realtime,
         )
         loaded = world if isinstance(world, World) else load_world(settings.world)
-        self._robot_model = robot
+        self._robot = navigator_robot(defaults.robot if robot is None else robot)
         self._seed = settings.seed
         self._time_offset = 0.0
         self._world = loaded
@@ -108,8 +113,9 @@ class NavigatorCore(Node):
     # -- the simulation -----------------------------------------------------------------------
 
     def _build(self, world: World, start: Pose2D) -> tuple[SimulatedRobot, NavigationServer]:
-        rig = build_simulated_robot(self._robot_model, world, start, self._seed)
-        server = build_navigation(rig.sim, rig.base, rig.lidar, world)
+        rig = build_simulated_robot(self._robot, world, start, self._seed)
+        params = navigation_params(self._robot)
+        server = build_navigation(rig.sim, rig.base, rig.lidar, world, params=params)
         self._world_servers = attach_world_servers(server, world)
         return rig, server
 

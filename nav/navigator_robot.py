@@ -3,44 +3,56 @@
 The navigation server takes any :class:`~baobab.nav.interfaces.MobileBase` and
 :class:`~baobab.nav.interfaces.ScanSource`. The Nav2 facade is different, because a Nav2 script
 constructs ``BasicNavigator()`` and expects a robot to be there: :func:`build_simulated_robot`
-builds one from ``baobab.robots`` (the layer below ``nav``; robots never import nav). The ROS
-runtime's robots (:mod:`baobab.nav.ros.sim_topics`) come from here too: the same Burger with
-what its topics need (odometry, joints, fixed frames), and :func:`build_simulated_arm` for the
-Panda.
+builds the one the robot registry (or a user's robot file) describes, and the navigation
+settings its facts decide (``baobab.robots`` is the layer below ``nav``; robots never import
+nav). The ROS runtime's robots (:mod:`baobab.nav.ros.sim_topics`) come from here too: a mobile
+robot with what its topics need (odometry, joints, fixed frames, all from its facts), and an
+arm from its runtime (:func:`build_simulated_arm`).
 
 Checking a pose (:func:`check_free`, :func:`pose_is_free`) loads no physics: ``baobab nav2``
 and ``baobab teleop`` refuse a blocked start before MuJoCo and the robot's compiled loop load,
-so the robot package is imported when a robot is built.
-
-The ROS runtime's robots (:mod:`baobab.nav.ros.sim_topics`) come from here too: the same
-Burger with what its topics need (odometry, joints, fixed frames), and the Panda
-(:func:`build_simulated_arm`).
+so the robot's physics is built only when a robot is.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from pathlib import Path
+from typing import TYPE_CHECKING
 
+from baobab.robots.arm_runtime import SimulatedArm
+from baobab.robots.catalog import MOBILE_ROBOTS, ROBOTS, RobotInfo, default_mobile_robot
+from baobab.robots.footprint import Footprint
+from baobab.robots.robot_file import UnknownRobotError, load_robot
 from baobab.sim.errors import BaobabError
-from baobab.sim.geometry import nearest_obstacle
 from baobab.sim.world import Pose2D, World
 
 if TYPE_CHECKING:  # checking a pose (baobab nav2, baobab teleop) loads no physics
     from baobab.nav.interfaces import MobileBase, ScanSource
+    from baobab.robots.diff_drive.robot import MobileRobot
     from baobab.sim.simulation import Simulation
 
-ROBOT_MODELS = ("turtlebot3",)
-"""The robot names a navigator accepts."""
+__all__ = [
+    "ARM_MODELS",
+    "ROBOT_MODELS",
+    "NavigatorSetupError",
+    "SimulatedArm",
+    "SimulatedRobot",
+    "StaticFrame",
+    "build_simulated_arm",
+    "build_simulated_robot",
+    "check_free",
+    "navigator_robot",
+    "pose_is_free",
+    "simulated_robot",
+]
 
-ARM_MODELS = ("panda",)
-"""The arm names the ROS runtime accepts besides :data:`ROBOT_MODELS`."""
+ROBOT_MODELS = MOBILE_ROBOTS
+"""The bundled robots a navigator drives (a robot file drives too)."""
 
-BURGER_IMU_OFFSET = (-0.032, 0.0, 0.068)
-"""``imu_link`` in ``base_link`` (m), as the Burger's URDF places it (``imu_joint``)."""
-BASE_LINK_HEIGHT = 0.010
-"""``base_link`` above ``base_footprint`` (m), as the Burger's URDF places it."""
+ARM_MODELS = tuple(name for name, robot in ROBOTS.items() if robot.runtime)
+"""The bundled arms the ROS runtime runs besides :data:`ROBOT_MODELS`."""
 
 
 @dataclass(frozen=True)
@@ -63,17 +75,17 @@ class SimulatedRobot:
     """A robot running in its own simulation, as the navigator needs it.
 
     Attributes:
+        info: the robot's registry entry (or its robot file's).
         sim: the simulation (world + robot), its callbacks registered.
         base: the drive, ground-truth pose in the map frame (the sim localises perfectly).
         lidar: the 2D scanner feeding the costmaps.
-        footprint_radius: radius (m) of the base's circular footprint.
         teleport: puts the robot at rest at a map-frame pose (``setInitialPose``).
     """
 
+    info: RobotInfo
     sim: Simulation
     base: MobileBase
     lidar: ScanSource
-    footprint_radius: float
     teleport: Callable[[Pose2D], None]
     odometry: Callable[[], tuple[Pose2D, float, float]] | None = None
     """Wheel odometry: the pose of ``base_footprint`` in ``odom`` and the body twist (m/s,
@@ -87,88 +99,86 @@ class SimulatedRobot:
     scan_rate: float = 5.0
     """Scans per second (Hz)."""
 
+    @property
+    def footprint(self) -> Footprint:
+        """The robot's real outline (m, ``base_link``)."""
+        return self.info.mobile_facts.footprint
 
-def build_simulated_robot(robot: str, world: World, start: Pose2D, seed: int) -> SimulatedRobot:
-    """Build ``world`` with ``robot`` at ``start`` in a new simulation seeded with ``seed``.
+
+def navigator_robot(robot: str | Path | RobotInfo | None) -> RobotInfo:
+    """The mobile robot ``robot`` names: a registry entry, a bundled name or alias, a robot
+    file's path; None is the registry's default mobile robot.
 
     Raises:
-        NavigatorSetupError: ``robot`` is not one of :data:`ROBOT_MODELS`, or ``start`` is not
-            free for its footprint.
+        NavigatorSetupError: an unknown name, or a robot that does not drive.
+        RobotFileError: a robot file that cannot be used (located).
     """
-    if robot != "turtlebot3":
+    if robot is None:
+        return default_mobile_robot()
+    try:
+        info = robot if isinstance(robot, RobotInfo) else load_robot(robot)
+    except UnknownRobotError:
         raise NavigatorSetupError(
-            f"unknown robot {robot!r}; a navigator drives one of: {', '.join(ROBOT_MODELS)}"
+            f"unknown robot {str(robot)!r}; a navigator drives one of: "
+            f"{', '.join(MOBILE_ROBOTS)}, or a robot file"
+        ) from None
+    if not info.mobile:
+        raise NavigatorSetupError(
+            f"robot '{info.name}' does not drive; a navigator drives one of: "
+            f"{', '.join(MOBILE_ROBOTS)}, or a robot file"
         )
-    from baobab.robots.turtlebot3 import BURGER, build_turtlebot3_sim  # MuJoCo: only to build
-
-    check_free(world, start, BURGER.footprint_radius, what="start pose")
-    _, turtlebot = build_turtlebot3_sim(world, start, seed=seed)
-    return simulated_turtlebot3(turtlebot)
+    return info
 
 
-def simulated_turtlebot3(turtlebot: Any) -> SimulatedRobot:
-    """The :class:`SimulatedRobot` view of a running Burger (a ``robots.turtlebot3.TurtleBot3``,
-    say the one a mission built)."""
-    from baobab.robots.turtlebot3 import BURGER
+def build_simulated_robot(
+    info: RobotInfo, world: World, start: Pose2D, seed: int
+) -> SimulatedRobot:
+    """Build ``world`` with the mobile robot ``info`` at ``start`` in a new simulation seeded
+    with ``seed``.
 
-    base, names = turtlebot.base, turtlebot.names
+    Raises:
+        NavigatorSetupError: ``start`` is not free for the robot's footprint.
+    """
+    check_free(world, start, info.mobile_facts.footprint, what="start pose")
+    _, robot = info.build_sim(world, start, seed=seed)
+    return simulated_robot(info, robot)
+
+
+def simulated_robot(info: RobotInfo, robot: MobileRobot) -> SimulatedRobot:
+    """The :class:`SimulatedRobot` view of a running mobile robot (say the one a mission built):
+    its odometry, wheel joints and the fixed frames its facts place (``base_link`` above
+    ``base_footprint``, ``base_scan`` at the lidar's mount, ``imu_link``)."""
+    from baobab.robots.diff_drive.robot import scan_rate  # MuJoCo: a robot is running
+
+    base, names, facts = robot.base, robot.names, robot.facts
 
     def odometry() -> tuple[Pose2D, float, float]:
         reading = base.odometry
         return reading.pose, reading.linear, reading.angular
 
     left, right = names.wheel_joints
+    lidar, height = facts.lidar, facts.base_link_height
     return SimulatedRobot(
-        sim=turtlebot.sim,
+        info=info,
+        sim=robot.sim,
         base=base,
-        lidar=turtlebot.lidar,
-        footprint_radius=BURGER.footprint_radius,
+        lidar=robot.lidar,
         teleport=base.teleport,
         odometry=odometry,
         body=names.body,
         joints=(("wheel_left_joint", left), ("wheel_right_joint", right)),
         static_frames=(
-            StaticFrame("base_footprint", "base_link", (0.0, 0.0, BASE_LINK_HEIGHT)),
-            StaticFrame(
-                "base_link",
-                "base_scan",
-                (BURGER.lidar_offset_x, 0.0, BURGER.lidar_height - BASE_LINK_HEIGHT),
-            ),
-            StaticFrame("base_link", "imu_link", BURGER_IMU_OFFSET),
+            StaticFrame("base_footprint", "base_link", (0.0, 0.0, height)),
+            StaticFrame("base_link", "base_scan", (lidar.x, lidar.y, lidar.z - height)),
+            StaticFrame("base_link", "imu_link", facts.imu),
         ),
-        scan_rate=BURGER.lidar_rate,
+        scan_rate=scan_rate(robot.sim, lidar.rate),
     )
 
 
-@dataclass
-class SimulatedArm:
-    """An arm under Cartesian impedance control in its own simulation (the ROS runtime's Panda).
-
-    Poses are in the arm's base frame ``base_frame``: position (m) and quaternion x, y, z, w.
-
-    Attributes:
-        sim: the simulation (table scene + arm), its control loop running.
-        base_frame: the ROS name of the arm's base frame.
-        base_in_world: the base frame's pose in the world: position and quaternion.
-        tcp_pose: the measured TCP pose.
-        reference_pose: the filtered reference the impedance law tracks.
-        set_target: the set-point the reference filters towards.
-        joints: (ROS joint name, MuJoCo joint name) of the arm and finger joints.
-        contact_steps: control steps in which the arm touched its surroundings so far.
-    """
-
-    sim: Simulation
-    base_frame: str
-    base_in_world: tuple[tuple[float, float, float], tuple[float, float, float, float]]
-    tcp_pose: Callable[[], tuple[Any, Any]]
-    reference_pose: Callable[[], tuple[Any, Any]]
-    set_target: Callable[[Any, Any], None]
-    joints: tuple[tuple[str, str], ...]
-    contact_steps: Callable[[], int]
-
-
 def build_simulated_arm(robot: str, seed: int) -> SimulatedArm:
-    """The Panda on its table (``panda_table``), holding its start pose, seeded with ``seed``.
+    """The arm ``robot`` in its own scene, holding its start pose, seeded with ``seed`` (built
+    by the runtime its registry entry names).
 
     Raises:
         NavigatorSetupError: ``robot`` is not one of :data:`ARM_MODELS`.
@@ -177,60 +187,31 @@ def build_simulated_arm(robot: str, seed: int) -> SimulatedArm:
         raise NavigatorSetupError(
             f"unknown arm {robot!r}; the ROS runtime runs one of: {', '.join(ARM_MODELS)}"
         )
-    # Like build_simulated_robot, the arm's import happens here, when one is asked for.
-    from baobab.robots.panda import build_panda_sim
-
-    sim, server = build_panda_sim(seed=seed)
-    return simulated_panda(sim, server)
+    runtime = ROBOTS[robot].arm_runtime()  # the arm's physics loads only now
+    sim, server = runtime.build(seed)
+    return runtime.simulated_arm(sim, server)
 
 
-def simulated_panda(sim: Simulation, server: Any) -> SimulatedArm:
-    """The :class:`SimulatedArm` view of a running Panda (a ``robots.panda.ArmServer``)."""
-    import numpy as np
-
-    from baobab.robots.panda.model import ARM_JOINTS, FINGER_JOINTS
-    from baobab.robots.panda.quaternion import matrix_to_quaternion
-
-    controller = server.controller
-
-    def tcp_pose() -> tuple[Any, Any]:
-        position, rotation = controller.tcp
-        quaternion = np.empty(4)
-        matrix_to_quaternion(rotation, quaternion)
-        return position, quaternion
-
-    base = server.base_position.tolist()
-    qx, qy, qz, qw = server.base_rotation.as_quat().tolist()
-    return SimulatedArm(
-        sim=sim,
-        base_frame="panda_link0",
-        base_in_world=((base[0], base[1], base[2]), (qx, qy, qz, qw)),
-        tcp_pose=tcp_pose,
-        reference_pose=lambda: controller.reference,
-        set_target=lambda position, quaternion: controller.set_target(
-            np.asarray(position, dtype=float), np.asarray(quaternion, dtype=float)
-        ),
-        joints=tuple(
-            (f"panda_{name}", f"{server.prefix}{name}") for name in (*ARM_JOINTS, *FINGER_JOINTS)
-        ),
-        contact_steps=lambda: server.contact_steps,
-    )
+def pose_is_free(world: World, pose: Pose2D, footprint: Footprint) -> bool:
+    """True when ``footprint`` at ``pose`` is clear of obstacles and on the floor."""
+    return footprint.clearance_in(world, pose)[1] >= 0.0
 
 
-def pose_is_free(world: World, pose: Pose2D, radius: float) -> bool:
-    """True when a footprint of ``radius`` (m) at ``pose`` is clear of obstacles, on the floor."""
-    return nearest_obstacle(world, pose.x, pose.y)[1] >= radius
-
-
-def check_free(world: World, pose: Pose2D, radius: float, *, what: str) -> None:
-    """Raise unless a footprint of ``radius`` (m) at ``pose`` is free in ``world``.
+def check_free(world: World, pose: Pose2D, footprint: Footprint, *, what: str) -> None:
+    """Raise unless ``footprint`` at ``pose`` is free in ``world``.
 
     Raises:
         NavigatorSetupError: naming the obstacle (or the floor edge) in the way.
     """
-    name, distance = nearest_obstacle(world, pose.x, pose.y)
-    if distance < radius:
-        raise NavigatorSetupError(
-            f"{what} ({pose.x:.3f}, {pose.y:.3f}) is not free in world '{world.name}': "
-            f"'{name}' is {distance:.3f} m from it, the robot's footprint needs {radius:.3f} m"
-        )
+    name, clearance = footprint.clearance_in(world, pose)
+    if clearance >= 0.0:
+        return
+    if footprint.radius is not None:
+        needs = f"'{name}' is {clearance + footprint.radius:.3f} m from it, the robot's "
+        needs += f"footprint needs {footprint.radius:.3f} m"
+    else:
+        needs = f"the robot's footprint at yaw {pose.yaw:.2f} rad reaches {-clearance:.3f} m "
+        needs += f"into '{name}'"
+    raise NavigatorSetupError(
+        f"{what} ({pose.x:.3f}, {pose.y:.3f}) is not free in world '{world.name}': {needs}"
+    )

@@ -9,8 +9,12 @@ unknown cells are open when ``allow_unknown``. The search itself is the compiled
 Start and goal follow Nav2's planner server: outside the map and in lethal space are errors
 with their own codes; a start inside the inscribed band may leave it (the planners clear the
 robot's cell); a goal that is blocked or unreachable is replaced by the reachable cell nearest
-to it within ``tolerance`` (NavFn's 0.5 m). The raw cell path is then smoothed (Nav2's Simple
-Smoother) and each pose faces along the path, the last one taking the goal's yaw.
+to it within ``tolerance`` (NavFn's 0.5 m). A robot with a polygon footprint is planned for
+by its inscribed radius, as Nav2's 2D planners do, and its goal pose is checked with the
+footprint at the goal's yaw, as Smac's Hybrid-A* checks its goal: an outline on a lethal cell
+is GOAL_OCCUPIED (the robot could never stand there). The raw cell path is then smoothed
+(Nav2's Simple Smoother) and each pose faces along the path, the last one taking the goal's
+yaw.
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ from baobab.nav.costmap import (
     Costmap2D,
 )
 from baobab.nav.errors import ComputePathToPoseError, NavigationError
+from baobab.nav.footprint import in_collision
 from baobab.nav.grid_search import BUDGET_SPENT, EXHAUSTED, GridSearch
 from baobab.nav.path import Path
 from baobab.nav.smoother import SimpleSmoother
@@ -116,6 +121,12 @@ class GlobalPlanner:
             raise NavigationError(codes.START_OCCUPIED, f"start {_xy(start)} is in an obstacle")
         if start_cost == INSCRIBED_INFLATED_OBSTACLE:
             grid = _open_escape(grid, costmap, start.x, start.y)
+        if costmap.has_polygon and in_collision(costmap, goal.x, goal.y, yaw=goal.yaw):
+            raise NavigationError(
+                codes.GOAL_OCCUPIED,
+                f"goal {_xy(goal)} puts the robot's footprint on an obstacle at yaw "
+                f"{goal.yaw:.2f} rad",
+            )
         targets = self._goal_candidates(grid, costmap, goal)
         if len(targets) == 0:
             raise NavigationError(

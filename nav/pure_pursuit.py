@@ -1,4 +1,4 @@
-"""Regulated Pure Pursuit: Nav2's path-following controller, scaled to the TurtleBot3 Burger.
+"""Regulated Pure Pursuit: Nav2's path-following controller, scaled to a robot's limits.
 
 Per control cycle (:meth:`RegulatedPurePursuit.compute_velocity`):
 
@@ -12,14 +12,16 @@ Per control cycle (:meth:`RegulatedPurePursuit.compute_velocity`):
    ``regulated_linear_scaling_min_radius``), by proximity to obstacles (the cost under the
    robot turned back into a distance) and on the approach to the goal, then ``w = v k``.
 4. Project the command ahead up to the carrot (at most
-   ``max_allowed_time_to_collision_up_to_carrot``); a projected collision raises
+   ``max_allowed_time_to_collision_up_to_carrot``), checking the robot's footprint (a polygon
+   at each projected yaw, turns in place too); a projected collision raises
    :class:`~baobab.nav.errors.CollisionAheadError` (Nav2: NO_VALID_CONTROL).
 
 The cycle runs as one compiled call (:mod:`baobab.nav.rpp_kernel`).
 
-Nav2's defaults are kept except where the Burger's limits demand otherwise: 0.22 m/s,
-2.84 rad/s, and ``regulated_linear_scaling_min_speed`` scaled like the top speed (0.25 m/s of
-0.5 m/s becomes 0.11 m/s of 0.22 m/s).
+Nav2's defaults are kept except where the robot's limits demand otherwise
+(:mod:`baobab.robots.tuning`): its top speed and yaw rate, and
+``regulated_linear_scaling_min_speed`` scaled like the top speed (0.25 m/s of 0.5 m/s). Built
+without a robot's, the settings are the registry's default mobile robot's.
 """
 
 from __future__ import annotations
@@ -33,16 +35,19 @@ from baobab.nav import rpp_kernel as kernel
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.errors import CollisionAheadError, FollowPathError, NavigationError
 from baobab.nav.path import Path
+from baobab.robots.catalog import default_mobile_robot
 from baobab.sim.records import record
 from baobab.sim.world import Pose2D
+
+_ROBOT = default_mobile_robot().tuning
 
 
 @dataclass(frozen=True)
 class RegulatedPurePursuitParams:
-    """Controller settings (m, s, rad): Nav2's defaults scaled to the Burger."""
+    """Controller settings (m, s, rad): Nav2's defaults scaled to a robot (the default one)."""
 
-    desired_linear_vel: float = 0.22
-    max_angular_vel: float = 2.84
+    desired_linear_vel: float = _ROBOT.max_linear_speed
+    max_angular_vel: float = _ROBOT.max_angular_speed
     lookahead_dist: float = 0.6
     min_lookahead_dist: float = 0.3
     max_lookahead_dist: float = 0.9
@@ -51,15 +56,15 @@ class RegulatedPurePursuitParams:
     use_interpolation: bool = True
     use_rotate_to_heading: bool = True
     rotate_to_heading_min_angle: float = 0.785
-    rotate_to_heading_angular_vel: float = 1.8
-    max_angular_accel: float = 3.2
+    rotate_to_heading_angular_vel: float = _ROBOT.rotate_to_heading_speed
+    max_angular_accel: float = _ROBOT.max_angular_accel
     use_regulated_linear_velocity_scaling: bool = True
     regulated_linear_scaling_min_radius: float = 0.9
-    regulated_linear_scaling_min_speed: float = 0.11
+    regulated_linear_scaling_min_speed: float = _ROBOT.min_regulated_speed
     use_cost_regulated_linear_velocity_scaling: bool = True
     cost_scaling_dist: float = 0.6
     cost_scaling_gain: float = 1.0
-    inflation_cost_scaling_factor: float = 3.0
+    inflation_cost_scaling_factor: float = _ROBOT.cost_scaling_factor
     min_approach_linear_velocity: float = 0.05
     approach_velocity_scaling_dist: float = 0.6
     use_collision_detection: bool = True
@@ -134,8 +139,7 @@ class RegulatedPurePursuit:
             self.closest_index,
             (x, y, pose.yaw),
             velocity,
-            costmap.data,
-            costmap.pack(),
+            costmap.arrays(),
             self._settings,
         )
         self.closest_index = step.closest

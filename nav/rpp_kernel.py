@@ -10,7 +10,8 @@ largest cost per cycle. The tests compare it with a plain Python controller
 
 The kernel reads two records (:mod:`baobab.sim.records`): the settings (:data:`RPP_SETTINGS`,
 from :meth:`~baobab.nav.pure_pursuit.RegulatedPurePursuitParams.pack`) and the local costmap's
-geometry (:data:`~baobab.nav.costmap.GRID`); it returns a :class:`PursuitStep`.
+geometry (:data:`~baobab.nav.costmap.GRID`, in :class:`~baobab.nav.costmap.CostmapArrays` with
+the cells and the footprint's outline); it returns a :class:`PursuitStep`.
 """
 
 from __future__ import annotations
@@ -26,7 +27,9 @@ from baobab.nav.costmap import (
     INSCRIBED_INFLATED_OBSTACLE,
     MAX_NON_OBSTACLE,
     NO_INFORMATION,
+    CostmapArrays,
 )
+from baobab.nav.footprint_kernel import footprint_collides
 from baobab.sim.records import Record
 
 OK = 0
@@ -213,25 +216,47 @@ def _regulated_speed(
 
 
 @numba.njit(cache=True, nogil=True)
+def _in_collision(
+    cells: np.ndarray, grid: Record, outline: np.ndarray, x: float, y: float, yaw: float
+) -> bool:  # pragma: no cover - compiled
+    """Nav2's ``inCollision``: a circular robot's centre on an inscribed cell, a polygon's
+    outline on a lethal one (unknown space is free, as off the grid)."""
+    if outline.shape[0] > 0:
+        return footprint_collides(cells, grid, outline, x, y, yaw, False)
+    cost = _cost(cells, grid, x, y)
+    return cost != NO_INFORMATION and cost >= INSCRIBED_INFLATED_OBSTACLE
+
+
+@numba.njit(cache=True, nogil=True)
 def _collision_ahead(
     cells: np.ndarray,
     grid: Record,
+    outline: np.ndarray,
     pose: Pose,
     command: tuple[float, float],
     reach: float,
     s: Record,
 ) -> bool:  # pragma: no cover - compiled
     """Nav2's projection: step ``command`` (m/s, rad/s) ahead from ``pose`` until it is
-    ``reach`` (m, the carrot's distance) away or the time limit passes."""
+    ``reach`` (m, the carrot's distance) away or the time limit passes.
+
+    A step moves the robot one cell; turning in place, a polygon's farthest vertex one cell
+    (``2 sin(res / 2 / r_max) / w``, Nav2's step).
+    """
     x, y, yaw = pose
-    cost = _cost(cells, grid, x, y)
-    if cost != NO_INFORMATION and cost >= INSCRIBED_INFLATED_OBSTACLE:
+    if _in_collision(cells, grid, outline, x, y, yaw):
         return True
     linear, angular = command
     if abs(linear) < 0.01:
-        # A circular robot turning in place sweeps no new cells.
-        return False
-    dt = grid.resolution / abs(linear)
+        if outline.shape[0] == 0 or abs(angular) <= 0.01:
+            # A circular robot turning in place sweeps no new cells.
+            return False
+        farthest = 0.0
+        for k in range(outline.shape[0]):
+            farthest = max(farthest, math.hypot(outline[k, 0], outline[k, 1]))
+        dt = 2.0 * math.sin(grid.resolution / 2 / farthest) / abs(angular)
+    else:
+        dt = grid.resolution / abs(linear)
     px, py, pyaw = x, y, yaw
     i = 1
     while i * dt < s.max_allowed_time_to_collision_up_to_carrot:
@@ -241,8 +266,7 @@ def _collision_ahead(
         pyaw += dt * angular
         if math.hypot(px - x, py - y) > reach:
             break
-        cost = _cost(cells, grid, px, py)
-        if cost != NO_INFORMATION and cost >= INSCRIBED_INFLATED_OBSTACLE:
+        if _in_collision(cells, grid, outline, px, py, pyaw):
             return True
     return False
 
@@ -254,8 +278,7 @@ def rpp_step(
     begin: int,
     pose: Pose,
     velocity: tuple[float, float],
-    cells: np.ndarray,
-    grid: np.ndarray,
+    costmap: CostmapArrays,
     settings: np.ndarray,
 ) -> PursuitStep:  # pragma: no cover - compiled
     """One Regulated Pure Pursuit cycle.
@@ -266,11 +289,11 @@ def rpp_step(
         begin: index of the pose found closest last cycle (the search starts there).
         pose: the robot's map-frame pose ``(x, y, yaw)`` (m, m, rad).
         velocity: the robot's ``(linear, angular)`` speed (m/s, rad/s).
-        cells: the local costmap's ``uint8`` cells, ``[row, col]``.
-        grid: the local costmap's :data:`~baobab.nav.costmap.GRID` record.
+        costmap: the local costmap's cells, geometry and footprint outline.
         settings: an :data:`RPP_SETTINGS` record.
     """
-    g, s = grid[0], settings[0]
+    cells, outline = costmap.cells, costmap.outline
+    g, s = costmap.grid[0], settings[0]
     x, y, yaw = pose
     extent = max(cells.shape[0], cells.shape[1]) * g.resolution / 2
     search_dist = s.max_robot_pose_search_dist
@@ -307,7 +330,7 @@ def rpp_step(
     angular = _clamp(angular, -s.max_angular_vel, s.max_angular_vel)
     status = OK
     if s.use_collision_detection and _collision_ahead(
-        cells, g, pose, (linear, angular), carrot_dist, s
+        cells, g, outline, pose, (linear, angular), carrot_dist, s
     ):
         status = COLLISION_AHEAD
     return PursuitStep(status, closest, linear, angular, map_x, map_y, extent)

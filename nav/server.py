@@ -69,7 +69,8 @@ from baobab.sim.world import Pose2D, World
 
 @dataclass(frozen=True)
 class NavigationParams:
-    """Every navigation setting; Nav2's defaults with the TurtleBot3 Burger's figures."""
+    """Every navigation setting: Nav2's defaults with a robot's figures
+    (:func:`~baobab.nav.robot_params.navigation_params`; the default robot's when built bare)."""
 
     global_costmap: CostmapParams = field(default_factory=CostmapParams)
     local_costmap: CostmapParams = field(default_factory=CostmapParams)
@@ -93,7 +94,8 @@ class NavigationServer:
         world: the world whose static geometry makes the static costmap layer.
         lidar: where scans come from (``subscribe``/``unsubscribe``); None leaves the
             obstacle layers empty.
-        params: settings; Nav2's defaults for the Burger when omitted.
+        params: settings; Nav2's defaults for the registry's default robot when omitted
+            (:func:`~baobab.nav.robot_params.navigation_params` makes a robot's).
     """
 
     def __init__(
@@ -381,9 +383,10 @@ class NavigationServer:
             raise NavigationError(SmoothPathError.INVALID_PATH, "the path has no poses")
         costmap = self.global_layers.costmap
         smoothed = self.smoother.smooth(path, costmap).path
+        xy = smoothed.xy
         if (
             check_for_collisions
-            and collision_mask(costmap, smoothed.xy[:, 0], smoothed.xy[:, 1]).any()
+            and collision_mask(costmap, xy[:, 0], xy[:, 1], yaws=smoothed.yaws).any()
         ):
             raise NavigationError(
                 SmoothPathError.SMOOTHED_PATH_IN_COLLISION, "the smoothed path collides"
@@ -491,9 +494,10 @@ def build_navigation(
 
     Args:
         sim: the simulation the robot lives in.
-        robot_base: the robot's base, e.g. a TurtleBot3's ``DiffDriveBase``.
-        lidar: its scanner, e.g. the TurtleBot3's ``Lidar``, or None.
+        robot_base: the robot's base, e.g. a mobile robot's ``DiffDriveBase``.
+        lidar: its scanner, e.g. the robot's ``Lidar``, or None.
         world: the world the simulation was built from.
-        params: navigation settings (defaults: Nav2's, for the Burger).
+        params: navigation settings (:func:`~baobab.nav.robot_params.navigation_params`;
+            the default robot's when omitted).
     """
     return NavigationServer(sim, robot_base, world, lidar=lidar, params=params)

@@ -44,7 +44,7 @@ class ChaseCamera:
     """How a chase camera follows a body (see the module docstring).
 
     Attributes:
-        body: name of the body to follow (e.g. ``tb3/base_link``).
+        body: name of the body to follow (e.g. ``robot/base_link``).
         distance: from the camera to the look-at point (m).
         lead: how far ahead of the body the look-at point is, along the view (m): the body
             sits below the frame's centre and the frame shows more of the way ahead.

@@ -84,6 +84,17 @@ def scene_entity(entity: Entity, stamp: fm.Timestamp) -> fm.SceneEntity:
         )
         for label in entity.labels
     ]
+    lines = [
+        fm.LinePrimitive(
+            type=fm.LinePrimitiveLineType.LineLoop,
+            pose=pose((0.0, 0.0, 0.0), IDENTITY),
+            thickness=outline.thickness,
+            scale_invariant=False,
+            points=[fm.Point3(x=x, y=y, z=z) for x, y, z in outline.points],
+            color=color(outline.colour),
+        )
+        for outline in entity.outlines
+    ]
     return fm.SceneEntity(
         timestamp=stamp,
         frame_id=entity.frame_id,
@@ -94,6 +105,7 @@ def scene_entity(entity: Entity, stamp: fm.Timestamp) -> fm.SceneEntity:
         cylinders=cylinders,
         arrows=arrows,
         texts=texts,
+        lines=lines,
     )
 
 

@@ -90,6 +90,13 @@ def _installed_callback() -> Any:
     return compiled.ctypes
 
 
+def load_dispatcher() -> None:
+    """Compile (or load from numba's cache) the process-wide control callback now, and with it
+    numba's compiler itself: a process that will run compiled control does this while it
+    waits for other work (``baobab run``'s run process)."""
+    _installed_callback()
+
+
 def compile_kernel(kernel: Callable[[int, int, int], None]) -> int:
     """Compile ``kernel`` (a function of :data:`KERNEL_SIGNATURE`) as a C callback, cached on
     disk; return its address for :func:`attach`. Keep the result: compile once per process."""

@@ -83,6 +83,15 @@ class Label:
 
 
 @dataclass(frozen=True)
+class Outline:
+    """A closed line through ``points`` (m, in its entity's frame), ``thickness`` m wide."""
+
+    points: tuple[Vector3, ...]
+    colour: Rgba
+    thickness: float = 0.01
+
+
+@dataclass(frozen=True)
 class Entity:
     """One scene entity: an id (replaced by later entities with the same id) and its parts."""
 
@@ -92,6 +101,7 @@ class Entity:
     arrows: tuple[Arrow, ...] = ()
     labels: tuple[Label, ...] = ()
     metadata: Mapping[str, str] = field(default_factory=dict)
+    outlines: tuple[Outline, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -113,7 +123,7 @@ class GeomScene:
         model: the compiled model.
         groups: geom groups to include (default: static obstacles, movable obstacles, robots).
         frame_id: frame of the entities; the world frame of the sim (``map`` for mobile
-            robots, which localise perfectly, ``world`` for the Panda scene).
+            robots, which localise perfectly, ``world`` for an arm's scene).
         include_planes: draw finite planes as thin cubes.
         hide_beyond: distance (m) along x or y past which a geom is not drawn.
         id_prefix: prepended to every entity id (body names), to keep topics apart.

@@ -14,7 +14,10 @@ import mujoco
 import numpy as np
 
 from baobab.nav import NavigationServer, build_navigation
-from baobab.robots.turtlebot3 import TurtleBot3, build_turtlebot3_sim
+from baobab.nav.robot_params import navigation_params
+from baobab.robots.catalog import ROBOTS
+from baobab.robots.diff_drive import MobileRobot
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP, movable_slot_name
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle, TaskStatus
@@ -58,7 +61,7 @@ class NavRig:
 
     world: World
     sim: Simulation
-    robot: TurtleBot3
+    robot: MobileRobot
     server: NavigationServer
     contacts: ContactWatch
 
@@ -88,12 +91,21 @@ class NavRig:
         return left, right
 
 
-def make_rig(world: World | str, start: Pose2D | None = None) -> NavRig:
-    """Build the robot in ``world`` at ``start`` (default spawn) and wire navigation to it."""
+def make_rig(
+    world: World | str, start: Pose2D | None = None, robot_name: str | None = None
+) -> NavRig:
+    """Build the robot in ``world`` at ``start`` (default spawn) and wire navigation to it:
+    the Burger, or the registry's ``robot_name`` with its own navigation settings."""
     if not isinstance(world, World):
         world = load_world(world)
-    sim, robot = build_turtlebot3_sim(world, start)
-    server = build_navigation(sim, robot.base, robot.lidar, world)
+    if robot_name is None:
+        sim, robot = build_turtlebot3_sim(world, start)
+        server = build_navigation(sim, robot.base, robot.lidar, world)
+    else:
+        info = ROBOTS[robot_name]
+        sim, robot = info.build_sim(world, start)
+        params = navigation_params(info)
+        server = build_navigation(sim, robot.base, robot.lidar, world, params=params)
     return NavRig(world, sim, robot, server, ContactWatch(sim, robot.names.body))
 
 

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from baobab.robots.turtlebot3 import Bug2Controller, build_turtlebot3_sim
+from baobab.robots.diff_drive import Bug2Controller
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
 
 
 def _trajectory(seed: int) -> tuple[np.ndarray, np.ndarray]:

@@ -15,7 +15,8 @@ import pytest
 
 from baobab.missions.run.arm_probes import ContactSampler
 from baobab.missions.run.mobile_probe import MobileProbe
-from baobab.robots.turtlebot3 import BURGER, TurtleBot3, build_turtlebot3_sim
+from baobab.robots.diff_drive import MobileRobot
+from baobab.robots.turtlebot3 import BURGER, build_turtlebot3_sim
 from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
 from baobab.sim.world import Box, Floor, Pose2D, World
 
@@ -27,7 +28,7 @@ def _commands(seed: int) -> list[tuple[float, float, float]]:
     return [(float(t), float(rng.uniform(-0.3, 0.3)), float(rng.uniform(-3.0, 3.0))) for t in times]
 
 
-def _drive(robot: TurtleBot3, commands: list[tuple[float, float, float]], period: float) -> None:
+def _drive(robot: MobileRobot, commands: list[tuple[float, float, float]], period: float) -> None:
     """Give each command from a callback every ``period`` (s), at its time or just after."""
     pending = list(commands)
 
@@ -47,7 +48,7 @@ class _ReferenceBase:
     predicts this tick's from the same state and ``cmd_vel`` the compiled tick will read.
     """
 
-    def __init__(self, robot: TurtleBot3) -> None:
+    def __init__(self, robot: MobileRobot) -> None:
         self.base = robot.base
         self.facts = BURGER
         self.commanded = (0.0, 0.0)

@@ -7,15 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from baobab.robots.turtlebot3 import (
+from baobab.robots.diff_drive import (
     Bug2Controller,
     Bug2Params,
     NavState,
-    build_turtlebot3_sim,
     dist_to_mline,
     follow_left_wall,
     min_range_in_sector,
 )
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.lidar import LaserScan
 from baobab.sim.world import Pose2D, load_world
 

@@ -38,6 +38,7 @@ from baobab.missions.campaigns.spec import build_spec
 from baobab.missions.campaigns.variant import load_run_mission, variant_of
 from baobab.missions.campaigns.vary import CampaignError, variable_keys
 from baobab.missions.cli.command_line import main
+from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.errors import MissionError
 from baobab.missions.language.json_schema import mission_json_schema
 from baobab.missions.language.loader import load_mission
@@ -189,6 +190,7 @@ def test_variations_of_start_noise_and_events_make_the_run_mission(tmp_path: Pat
     keys = set(variable_keys(mission))
     assert keys == {
         "goal",
+        "robot",
         "start.x",
         "start.y",
         "start.yaw",
@@ -470,3 +472,24 @@ def test_sigint_stops_dispatch_keeps_finished_rows_and_exits_130(tmp_path: Path)
         wilson_interval(len(rows), len(rows))[0]
     )
     assert "Traceback" not in err
+
+
+def test_the_forkserver_loads_numbas_compiler_once_for_every_worker(tmp_path: Path) -> None:
+    # Each local run is a process forked from the forkserver: what the forkserver imported
+    # (the preload list) every run starts with, numba's registries and the dispatcher too.
+    from baobab.missions.campaigns.executors import preload_modules
+
+    mission = load_mission(resolve_mission("walls_go_to_goal"))
+    modules = preload_modules(mission)
+    script = (
+        "import importlib, json, sys\n"
+        f"for name in {modules!r}:\n"
+        "    importlib.import_module(name)\n"
+        "from baobab.sim import native_control\n"
+        "print(json.dumps([native_control._installed_callback.cache_info().currsize,\n"
+        "                  'numba.np.arraymath' in sys.modules]))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, check=True
+    )
+    assert json.loads(done.stdout) == [1, True]

@@ -81,14 +81,14 @@ from baobab.nav.msgs import Header, Quaternion, Twist, Vector3, pose_stamped
 from baobab.nav.msgs import Path as PathMessage
 from baobab.nav.ros.geographic_msgs.msg import GeoPoint, GeoPose
 from baobab.nav.server import NavigationServer
+from baobab.robots.diff_drive.base import DiffDriveBase
+from baobab.robots.diff_drive.controller_tasks import BaseControllerServer
 from baobab.robots.panda.arm_server import ArmServer
 from baobab.robots.panda.gripper import MIN_GRASP_WIDTH, STALL_SPEED
 from baobab.robots.panda.model import MAX_OPENING, TCP_SITE
 from baobab.robots.panda.pose import Pose
 from baobab.robots.panda.scene import build_panda_sim
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
-from baobab.robots.turtlebot3.base import DiffDriveBase
-from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
 from baobab.sim.geodesy import MapDatum
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus

@@ -5,12 +5,12 @@ from __future__ import annotations
 import math
 
 from baobab.behaviours.ports import BaseControllerPort
-from baobab.robots.turtlebot3 import build_turtlebot3_sim
-from baobab.robots.turtlebot3.controller_tasks import (
+from baobab.robots.diff_drive.controller_tasks import (
     BaseControllerError,
     BaseControllerServer,
     ControllerTaskConfig,
 )
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.tasks import TaskHandle, TaskStatus
 from baobab.sim.world import Pose2D
 

@@ -6,14 +6,14 @@ import math
 
 import pytest
 
-from baobab.robots.turtlebot3 import (
+from baobab.robots.diff_drive import (
     GoToGoalController,
     GoToGoalParams,
     NavState,
     angle_wrap,
-    build_turtlebot3_sim,
     go_to_goal_command,
 )
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.world import Pose2D, load_world
 
 THETA_MAX = math.radians(70.0)

@@ -16,7 +16,13 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 BUNDLED = sorted(str(path) for path in (REPO / "missions").glob("*.yaml"))
-LAZY_PACKAGES = ("baobab.sim", "baobab.nav", "baobab.robots.turtlebot3", "baobab.robots.panda")
+LAZY_PACKAGES = (
+    "baobab.sim",
+    "baobab.nav",
+    "baobab.robots.diff_drive",
+    "baobab.robots.turtlebot3",
+    "baobab.robots.panda",
+)
 
 VALIDATE_MUST_NOT_LOAD = (
     "numpy",
@@ -30,7 +36,7 @@ VALIDATE_MUST_NOT_LOAD = (
     "av",
     "baobab.nav",
     "baobab.robots.panda",
-    "baobab.robots.turtlebot3.base",
+    "baobab.robots.diff_drive.base",
     # a loaded mission is valid: validate builds no py_trees tree
     "py_trees",
     # pydantic's plugin discovery, skipped while plugins are disabled
@@ -41,7 +47,7 @@ VALIDATE_MUST_NOT_LOAD = (
     "baobab.missions.run.recording_hook",
     "baobab.missions.cli.teleop_command",
     "baobab.missions.cli.nav2_command",
-    "baobab.robots.turtlebot3.teleop_terminal",
+    "baobab.robots.diff_drive.teleop_terminal",
 )
 REFUSED_RUN_MUST_NOT_LOAD = ("numpy", "scipy", "mujoco", "numba", "matplotlib", "baobab.nav")
 MOBILE_RUN_MUST_NOT_LOAD = (
@@ -89,6 +95,37 @@ def test_validate_of_every_bundled_mission_loads_no_physics_plots_or_navigation(
     assert _matching(loaded, tuple(m for m in VALIDATE_MUST_NOT_LOAD if m not in allowed)) == []
 
 
+def test_validate_of_other_robots_and_a_robot_file_loads_no_physics(tmp_path: Path) -> None:
+    rover = tmp_path / "rover.yaml"
+    rover.write_text(
+        "footprint: {polygon: [[0.16, 0.15], [-0.2, 0.15], [-0.2, -0.15], [0.16, -0.15]]}\n"
+        "body: {shape: box, length: 0.32, width: 0.26, height: 0.12, bottom: 0.02}\n"
+        "wheels: {radius: 0.04, separation: 0.24, width: 0.02, mass: 0.15}\n"
+        "casters: [{x: -0.15}, {x: 0.12}]\nmass: 3.0\n"
+        "limits: {linear_speed: 0.4, angular_speed: 2.0, linear_accel: 1.0, angular_accel: 4.0}\n"
+        "lidar: {x: 0.0, z: 0.2, range_min: 0.12, range_max: 8.0, rate: 10, beams: 360}\n",
+        encoding="utf-8",
+    )
+    mission = tmp_path / "mission.yaml"
+    mission.write_text(
+        "mission: m\nworld: walls\nrobot: ./rover.yaml\n"
+        "tree: {navigate_to_pose: {goal: goal_open}}\n",
+        encoding="utf-8",
+    )
+    farm = str(REPO / "missions" / "farm_rows.yaml")
+    script = (
+        "import contextlib, io, json, sys\n"
+        "from baobab.missions.cli.command_line import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    assert main(['validate', {farm!r}, '--robot', 'turtlebot3_waffle']) == 0\n"
+        f"    assert main(['validate', {str(mission)!r}]) == 0\n"
+        "print(json.dumps(sorted(sys.modules)))\n"
+    )
+    loaded = _loaded(script)
+    assert "baobab.robots.robot_file" in loaded
+    assert _matching(loaded, VALIDATE_MUST_NOT_LOAD) == []
+
+
 def test_run_refuses_a_bad_mission_before_loading_the_simulation(tmp_path: Path) -> None:
     bad = REPO / "tests" / "bad_inputs" / "missions" / "seed_word.yaml"
     script = (
@@ -133,7 +170,7 @@ def test_a_mobile_run_reaches_its_first_tick_without_arm_or_display_modules(
         "def first_tick(self, snapshot):\n"
         "    print(json.dumps(sorted(sys.modules)), flush=True)\n"
         "    raise SystemExit(0)\n"
-        "progress.LineProgress.due = first_tick\n"
+        "progress.LineSchedule.due = first_tick\n"
         "from baobab.missions.cli.command_line import main\n"
         f"main(['run', {mission!r}, '--out', {str(tmp_path / 'run')!r}])\n"
         "raise SystemExit('the mission never ticked')\n"

@@ -202,6 +202,10 @@ def test_list_names_missions_worlds_robots_and_every_behaviour(
     code, out, _ = _run(capsys, "list", "--json")
     catalogue = json.loads(out)
     assert set(catalogue) == {"missions", "worlds", "scenes", "robots", "behaviours"}
-    assert catalogue["robots"]["panda"]["capabilities"] == ["arm", "ros_nodes"]
+    assert catalogue["robots"]["panda"]["capabilities"] == ["arm", "gripper", "ros_nodes"]
+    waffle = catalogue["robots"]["turtlebot3_waffle"]
+    assert len(waffle["footprint"]["polygon"]) == 4
+    assert catalogue["robots"]["turtlebot4"]["lidar"]["range"] == [0.15, 12.0]
+    assert catalogue["robots"]["turtlebot3"]["aliases"] == ["turtlebot3_burger"]
     assert catalogue["behaviours"]["move_to"]["capability"] == "arm"
     assert "walls" in catalogue["worlds"]

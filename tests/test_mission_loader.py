@@ -57,7 +57,7 @@ MALFORMED = [
     ("missing tree", WALLS, "2:1", "missing required key 'tree'"),
     ("duplicate key", WALLS + WAIT_TREE + WAIT_TREE, "9:1", "duplicate key 'tree'"),
     ("unknown robot", "mission: m\nworld: walls\nrobot: turtlebot\n" + WAIT_TREE, "4:1",
-     "unknown robot 'turtlebot'; did you mean 'turtlebot3'? valid: panda, turtlebot3"),
+     "unknown robot 'turtlebot'; did you mean 'turtlebot4'? valid: panda, turtlebot3,"),
     ("unknown world", "mission: m\nworld: wals\nrobot: turtlebot3\n" + WAIT_TREE, "3:1",
      "unknown world 'wals'; did you mean 'walls'?"),
     ("mobile robot without world", "mission: m\nrobot: turtlebot3\n" + WAIT_TREE, "3:1",

@@ -447,7 +447,9 @@ def test_change_map_keeps_a_free_pose_and_sim_time() -> None:
 def test_construction_defaults_clock_and_errors() -> None:
     with pytest.raises(WorldError, match="unknown world 'atlantis'"):
         BasicNavigator(world="atlantis")
-    with pytest.raises(NavigatorSetupError, match="unknown robot"):
+    with pytest.raises(NavigatorSetupError, match="unknown robot 'turtlebot9'"):
+        BasicNavigator(robot="turtlebot9")
+    with pytest.raises(NavigatorSetupError, match="robot 'panda' does not drive"):
         BasicNavigator(robot="panda")
     with pytest.raises(NavigatorSetupError, match="table_1"):
         BasicNavigator(world="cafe", start=Pose2D(x=-2.0, y=-0.6))

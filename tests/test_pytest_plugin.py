@@ -97,6 +97,8 @@ def test_two_quick_missions_pass_and_other_yaml_is_left_alone(pytester: pytest.P
     assert sorted(path.name for path in folders) == ["walls_bug20", "walls_go_to_goal0"]
     results = [json.loads((path / "result.json").read_text()) for path in folders]
     assert {result["result"] for result in results} == {"SUCCEEDED"}
+    # A passing scenario's folder has no plot.png unless asked (--baobab-plots all).
+    assert [path for path in folders if (path / "plot.png").exists()] == []
 
 
 def test_an_impossible_expectation_fails_with_the_table_and_the_run_folder(
@@ -116,6 +118,19 @@ def test_an_impossible_expectation_fails_with_the_table_and_the_run_folder(
     assert f"run folder: {folder}" in text
     assert "replay: baobab run too_fast.yaml --seed 2" in text
     assert json.loads((folder / "result.json").read_text())["intended"] is False
+    assert (folder / "plot.png").read_bytes()[:4] == b"\x89PNG"  # a failure is drawn
+
+
+@pytest.mark.parametrize(("plots", "drawn"), [("all", True), ("none", False)])
+def test_the_plots_option_says_which_run_folders_get_a_plot(
+    pytester: pytest.Pytester, plots: str, drawn: bool
+) -> None:
+    _copy(pytester, "walls_go_to_goal")
+    runs = pytester.path / "runs"
+    _run(pytester, "--baobab-runs", str(runs), "--baobab-plots", plots).assert_outcomes(passed=1)
+    (folder,) = runs.iterdir()
+    assert (folder / "plot.png").exists() is drawn
+    assert (folder / "result.json").is_file() and (folder / "trace.jsonl").is_file()
 
 
 def test_a_malformed_mission_is_a_located_error_and_the_others_still_run(

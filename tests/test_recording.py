@@ -25,7 +25,7 @@ from baobab.missions.run.recording_topics import TASK_FEEDBACK_SCHEMA, TREE_STAT
 from baobab.nav.layered_costmap import LayeredCostmap
 from baobab.robots.panda.model import ARM_JOINTS
 from baobab.robots.panda.scene import build_panda_sim
-from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.lidar import LaserScan
 from baobab.sim.recording import (
     LiveSink,

@@ -9,7 +9,7 @@ import av
 import numpy as np
 import pytest
 
-from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.camera import CameraPose
 from baobab.sim.chase_camera import ChaseCamera
 from baobab.sim.rendering import (

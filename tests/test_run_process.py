@@ -14,7 +14,12 @@ from typing import Any
 import pytest
 
 from baobab.missions.language.errors import MissionError
-from baobab.missions.run.child_process import ChildProcessDiedError, run_in_child
+from baobab.missions.run.child_process import (
+    ChildProcessDiedError,
+    handle_forwarded_signals,
+    run_in_child,
+    start_child,
+)
 from baobab.sim.errors import BaobabError
 
 REPO = Path(__file__).resolve().parents[1]
@@ -124,6 +129,72 @@ def test_the_plotting_process_never_loads_the_simulation_stack(tmp_path: Path) -
     assert (parent["code"], result["result"]) == (0, "SUCCEEDED")
     assert (out / "plot.png").stat().st_size > 10_000
     assert "matplotlib" in parent["modules"]
-    loaded = [name for name in parent["modules"] if name.split(".")[0] in ("numba", "llvmlite")]
+    # Nor MuJoCo: what the run sends back (its plot data) is plain data.
+    simulation_stack = ("numba", "llvmlite", "mujoco")
+    loaded = [name for name in parent["modules"] if name.split(".")[0] in simulation_stack]
     assert loaded == []
     assert "baobab.missions.run.runner" not in parent["modules"]
+
+
+_PREPARED: list[str] = []
+
+
+def _prepare() -> None:
+    _PREPARED.append(f"prepared in {os.getpid()}")
+
+
+def _report(payload: dict[str, int], send: Any) -> dict[str, Any]:
+    send(("progress", payload["n"]))
+    return {"pid": os.getpid(), "prepared": list(_PREPARED), "n": payload["n"]}
+
+
+def test_a_started_child_prepares_before_it_knows_its_job() -> None:
+    child = start_child(_prepare)
+    seen: list[Any] = []
+    result = child.run(_report, {"n": 7}, seen.append)  # the job and its payload travel
+    assert seen == [("progress", 7)]
+    assert result["pid"] != os.getpid() and result["n"] == 7
+    assert result["prepared"] == [f"prepared in {result['pid']}"]  # there, not here
+    assert _PREPARED == []
+    child.discard()  # after a job: nothing left to do
+
+
+def _signal_seen(_payload: None, _send: Any) -> str | None:
+    seen: list[int] = []
+    signal.signal(signal.SIGTERM, lambda signum, _frame: seen.append(signum))
+    handle_forwarded_signals()  # blocked until now: the earlier signal waited
+    return signal.Signals(seen[0]).name if seen else None
+
+
+def test_a_signal_that_came_before_the_job_reaches_it_once_it_handles_signals() -> None:
+    child = start_child(lambda: None)
+    name = child.run(_signal_seen, None, print, earlier=lambda: signal.SIGTERM)
+    assert name == "SIGTERM"
+
+
+def test_a_started_child_that_gets_no_job_is_ended_and_reaped() -> None:
+    child = start_child(lambda: None)
+    pid = child._child.pid
+    child.discard()
+    with pytest.raises(ChildProcessError):  # reaped: no longer this process's child
+        os.waitpid(pid, os.WNOHANG)
+
+
+def test_a_refused_mission_leaves_no_run_process_behind(tmp_path: Path) -> None:
+    # `baobab run` forks its run's process before it loads the mission; refused input ends it.
+    bad = REPO / "tests" / "bad_inputs" / "missions" / "seed_word.yaml"
+    script = (
+        "import contextlib, io, json, os\n"
+        "from baobab.missions.cli.command_line import main\n"
+        "with contextlib.redirect_stderr(io.StringIO()):\n"
+        f"    code = main(['run', {str(bad)!r}, '--out', {str(tmp_path / 'run')!r}])\n"
+        "children = [c for t in os.listdir('/proc/self/task')\n"
+        "            for c in open(f'/proc/self/task/{t}/children').read().split()]\n"
+        "print(json.dumps({'code': code, 'children': children}))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout) == {"code": 2, "children": []}
+    assert not (tmp_path / "run").exists()

@@ -131,7 +131,7 @@ def run_json(
     return code, json.loads(captured.out), captured.err
 
 
-# --- TurtleBot3 -----------------------------------------------------------------------------
+# --- TurtleBot3 ------------------------------------------------------------------------------
 
 
 def test_a_recorded_and_filmed_go_to_goal_run_is_the_same_run(
@@ -203,8 +203,13 @@ def test_a_recorded_and_filmed_go_to_goal_run_is_the_same_run(
     ids = {entity.id for entity in world.entities}
     assert {"location/goal_open", "location/goal_behind_wall"} <= ids
     assert len(world.deletions) == 1  # each update replaces the whole scene
-    robot_ids = {entity.id for entity in messages["/robot/scene"][0][1].entities}
-    assert "tb3/base_link" in robot_ids
+    robot_entities = {entity.id: entity for entity in messages["/robot/scene"][0][1].entities}
+    assert "tb3/base_link" in robot_entities
+    footprint = robot_entities["footprint"]  # the Burger's 0.105 m circle, in base_link
+    assert footprint.frame_id == "base_link"
+    (outline,) = footprint.lines
+    assert len(outline.points) == 16
+    assert {round(math.hypot(p.x, p.y), 6) for p in outline.points} == {0.105}
 
     with av.open(str(video)) as container:
         stream = container.streams.video[0]

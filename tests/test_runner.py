@@ -424,11 +424,13 @@ def test_a_mobile_run_without_navigation_imports_neither_panda_nor_nav(tmp_path:
 
 def test_a_cold_kernel_cache_is_announced(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     from baobab.missions.cli.run_command import kernels_cached
+    from baobab.robots.catalog import ROBOTS
 
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
-    assert not kernels_cached("turtlebot3")
-    index = tmp_path / "turtlebot3_0123" / "base_kernel.base_kernel-170.py311.nbi"
+    assert not kernels_cached(ROBOTS["turtlebot3"])
+    index = tmp_path / "diff_drive_0123" / "base_kernel.base_kernel-170.py311.nbi"
     index.parent.mkdir()
     index.touch()
-    assert kernels_cached("turtlebot3")
-    assert not kernels_cached("panda")
+    assert kernels_cached(ROBOTS["turtlebot3"])
+    assert kernels_cached(ROBOTS["turtlebot4"])
+    assert not kernels_cached(ROBOTS["panda"])

@@ -10,8 +10,8 @@ import mujoco
 import numpy as np
 import pytest
 
+from baobab.robots.diff_drive.go_to_goal import GoToGoalController, GoToGoalParams
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
-from baobab.robots.turtlebot3.go_to_goal import GoToGoalController, GoToGoalParams
 from baobab.sim import Simulation, SimulationError
 from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP, geom_ids_in_group, world_spec
 from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from baobab.robots.turtlebot3 import LAYOUTS, KeyboardTeleop, Twist2D, layout_named, twist_from_keys
-from baobab.robots.turtlebot3.teleop_terminal import (
+from baobab.robots.diff_drive import LAYOUTS, KeyboardTeleop, Twist2D, layout_named, twist_from_keys
+from baobab.robots.diff_drive.teleop_terminal import (
     CTRL_D,
     ESCAPE,
     KeyAction,

@@ -26,8 +26,9 @@ import pytest
 
 from baobab.missions.cli.command_line import main
 from baobab.missions.cli.teleop_command import TICK, TeleopSession, TeleopStatus, drive, help_text
-from baobab.robots.turtlebot3.teleop import LAYOUTS
-from baobab.robots.turtlebot3.teleop_terminal import RawTerminal, TerminalKeys
+from baobab.robots.catalog import ROBOTS
+from baobab.robots.diff_drive.teleop import LAYOUTS
+from baobab.robots.diff_drive.teleop_terminal import RawTerminal, TerminalKeys
 from baobab.sim.tasks import TaskStatus
 from baobab.sim.world import load_world
 
@@ -70,6 +71,23 @@ def test_a_session_drives_with_held_keys_and_assisted_teleop_stops_it_at_the_wal
     outcome = session.finish()
     assert outcome is not None and outcome.status is TaskStatus.SUCCEEDED
     assert session.robot.base.target == (0.0, 0.0)
+
+
+def test_a_waffle_session_measures_its_polygon_and_stops_it_short_of_the_wall() -> None:
+    waffle = ROBOTS["turtlebot3_waffle"]
+    speeds = waffle.tuning.teleop_speeds
+    keys = TerminalKeys(LAYOUTS["wasd"], linear_speed=speeds[0], angular_speed=speeds[1])
+    session = TeleopSession(load_world("walls"), keys, waffle)
+    status = session.status()  # the front edge, 0.0765 m ahead of base_link
+    assert status.nearest == "wall_east"
+    assert status.clearance == pytest.approx(1.15 - 0.0765 - status.x, abs=1e-6)
+    for _ in range(100):  # 10 s of "w": assisted teleop stops it before the wall
+        session.press("w")
+        session.advance(0.1)
+    status = session.status()
+    assert status.scaling == 0.0 and 0.05 <= status.clearance < 0.1
+    outcome = session.finish()
+    assert outcome is not None and outcome.status is TaskStatus.SUCCEEDED
 
 
 def test_the_status_line_fits_the_terminal() -> None:

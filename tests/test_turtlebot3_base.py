@@ -8,10 +8,9 @@ import mujoco
 import numpy as np
 import pytest
 
+from baobab.robots.diff_drive import DiffDriveBase, MobileRobot
 from baobab.robots.turtlebot3 import (
     BURGER,
-    DiffDriveBase,
-    TurtleBot3,
     attach_turtlebot3,
     build_turtlebot3_sim,
     start_turtlebot3,
@@ -30,7 +29,7 @@ def _open_floor(boxes: list[Box] | None = None) -> World:
     )
 
 
-def _settled(world: World | str = "walls", start: Pose2D | None = None) -> TurtleBot3:
+def _settled(world: World | str = "walls", start: Pose2D | None = None) -> MobileRobot:
     """A Burger that has stood still for 0.2 s, so it sits on its wheels and caster."""
     sim, robot = build_turtlebot3_sim(world, start)
     sim.step_for(0.2)
@@ -50,7 +49,7 @@ def test_model_has_the_burger_figures() -> None:
     assert np.linalg.norm(left - right) == pytest.approx(0.160)
     assert model.geom("tb3/wheel_left").size[0] == pytest.approx(0.033)
     assert data.site("tb3/base_scan").xpos[2] == pytest.approx(0.182, abs=0.002)
-    assert 0.17 <= BURGER.lidar_height <= 0.19
+    assert 0.17 <= BURGER.lidar.z <= 0.19
     assert (BURGER.max_linear_speed, BURGER.max_angular_speed) == (0.22, 2.84)
     geoms = _robot_geoms(model)
     assert set(model.geom_group[geoms]) == {ROBOT_GROUP}

@@ -46,8 +46,8 @@ def test_the_metric_catalogue_is_what_a_run_registers(text: str, tmp_path: Path)
 
 
 def test_error_code_names_are_those_of_the_robots_capabilities() -> None:
-    mobile = error_codes(ROBOTS["turtlebot3"].capabilities)
-    arm = error_codes(ROBOTS["panda"].capabilities)
+    mobile = error_codes(ROBOTS["turtlebot3"])
+    arm = error_codes(ROBOTS["panda"])
     assert mobile["NO_VALID_PATH"] == {208, 308}
     assert mobile["FAILED_TO_MAKE_PROGRESS"] == {105, 801}  # Nav2's controller, the base's
     assert "GRASP_FAILED" not in mobile and arm["GRASP_FAILED"] == {4}

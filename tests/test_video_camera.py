@@ -24,7 +24,7 @@ from baobab.missions.language.loader import load_mission
 from baobab.missions.run.recording_hook import DEFAULT_FPS
 from baobab.missions.run.runner import RecordingOptions, RunRecord, run_mission
 from baobab.robots.panda.scene import PREFIX, TABLE_GEOM, build_panda_sim, video_view
-from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
+from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim import rendering
 from baobab.sim.camera import CameraPose, LineOfSight, framing, geom_box_corners
 from baobab.sim.chase_camera import ChaseCamera, ChaseOperator

@@ -184,14 +184,18 @@ def _init_local_worker(stop: Event) -> None:
 
 
 def preload_modules(mission: Mission) -> list[str]:
-    """The modules a run of ``mission`` imports, for the forkserver to import once."""
-    modules = [__name__]
-    if mission.robot.mobile:
-        modules.append("baobab.robots.turtlebot3.robot")
+    """The modules a run of ``mission`` imports, for the forkserver to import once (and numba's
+    compiler with the control dispatcher, :mod:`.worker_preload`)."""
+    modules = [__name__, "baobab.missions.campaigns.worker_preload"]
+    robot = mission.robot
+    if robot.mobile:
+        modules.append("baobab.robots.diff_drive.robot")
+        if robot.body:
+            modules.append(robot.body.partition(":")[0])
         if uses_capability(mission, NAVIGATION):
             modules.append("baobab.nav.server")
     else:
-        modules += ["baobab.missions.run.arm_port", "baobab.robots.panda.scene"]
+        modules.append(robot.runtime)
     return modules
 
 

@@ -66,7 +66,7 @@ class RunTask:
     values: dict[str, Any]
     overrides: dict[str, str]
     start_offset: tuple[float, float, float] | None
-    data_changes: tuple[tuple[KeyPath, float], ...]
+    data_changes: tuple[tuple[KeyPath, float | str], ...]
     mission_path: str
     mission_text: str
     variant_label: str
@@ -141,7 +141,7 @@ class CampaignSpec:
         overrides = dict(self.sets)
         offset = [0.0, 0.0, 0.0]
         has_offset = False
-        changes: list[tuple[KeyPath, float]] = []
+        changes: list[tuple[KeyPath, float | str]] = []
         for target, value in chosen:
             if target.kind == "param":
                 overrides[str(target.path[0])] = format_value(value)
@@ -149,6 +149,10 @@ class CampaignSpec:
                     values[target.key] = target.typed(value)
                 except ValueError:
                     values[target.key] = value  # out of bounds: the run reports it (INVALID)
+                continue
+            if target.kind == "robot":
+                values[target.key] = str(value)
+                changes.append((target.path, str(value)))
                 continue
             number = float(value)
             values[target.key] = number

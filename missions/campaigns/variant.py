@@ -89,7 +89,7 @@ def variant_text(mission: Mission, task: RunTask) -> str:
     )
 
 
-def _write(data: dict[str, Any], key_path: KeyPath, value: float) -> None:
+def _write(data: dict[str, Any], key_path: KeyPath, value: float | str) -> None:
     """Set ``data[k0][k1]...`` to ``value``, making mappings on the way (e.g. ``noise``).
 
     Integer keys index lists (``events``); the campaign checked they exist.

@@ -7,6 +7,9 @@ A variation is written ``KEY=DIST`` (``--vary``) or ``KEY=v1,v2,...`` (``--grid`
 - ``start.x``, ``start.y`` (m) and ``start.yaw`` (rad) of a mobile robot: offsets added to
   the mission's start pose;
 - ``noise.lidar_std`` (m): the lidar's range noise (robots with a lidar);
+- ``robot``: the robot, one of the bundled mobile robots the mission fits (its ``robots:``
+  when it lists them) or a robot file in the mission's folder, with ``choice`` or ``--grid``:
+  ``--vary robot=choice(NAME,NAME)`` (names from ``baobab list``);
 - ``events.N.at``, ``events.N.duration`` and ``events.N.KIND.FIELD`` for the N-th event of
   the file's ``events:`` list (0-based), e.g. ``events.0.spawn_obstacle.x`` (m): the value
   replaces the one written.
@@ -39,6 +42,8 @@ from baobab.missions.language.models import (
     TeleopCommand,
 )
 from baobab.missions.language.params import ParamSpec
+from baobab.robots.catalog import MOBILE_ROBOTS, robot_named
+from baobab.robots.robot_file import is_robot_path
 from baobab.sim.errors import BaobabError, clip, unknown_name
 from baobab.sim.yaml_source import KeyPath
 
@@ -126,20 +131,24 @@ class Target:
 
     Attributes:
         key: the key as shown in results (``table``, ``start.x``, ``events.0.at``...).
-        kind: ``param`` (a ``--set`` value), ``start`` (an offset) or ``data`` (a value written
-            into the mission file's data).
+        kind: ``param`` (a ``--set`` value), ``start`` (an offset), ``data`` (a value written
+            into the mission file's data) or ``robot`` (the ``robot:`` written into it).
         path: the parameter name, the start axis, or the key path in the mission data.
         spec: the parameter's declaration (``param`` only).
     """
 
     key: str
-    kind: Literal["param", "start", "data"]
+    kind: Literal["param", "start", "data", "robot"]
     path: KeyPath
     spec: ParamSpec | None = None
+    choices: tuple[str, ...] = ()
+    """The robots a ``robot`` target takes."""
 
     @property
     def numeric_only(self) -> bool:
         """True when the value must be a number."""
+        if self.kind == "robot":
+            return False
         return self.spec is None or self.spec.type in ("int", "float")
 
     def typed(self, value: str | float) -> Any:
@@ -150,6 +159,8 @@ class Target:
         """
         if self.spec is not None:
             return self.spec.parse_text(format_value(value))
+        if self.kind == "robot":
+            return robot_value(str(value), self.choices)
         try:
             number = float(value)
         except ValueError:
@@ -157,6 +168,21 @@ class Target:
         if not math.isfinite(number):
             raise ValueError(f"expected a finite number (m or rad), got '{value}'")
         return number
+
+
+def robot_value(value: str, choices: Sequence[str]) -> str:
+    """The robot ``value`` names (a bundled one's name, or a robot file), if it is one of
+    ``choices`` (a robot file is allowed when they are the bundled mobile robots).
+
+    Raises:
+        ValueError: a robot the mission does not fit.
+    """
+    if is_robot_path(value) and set(choices) >= set(MOBILE_ROBOTS):
+        return value
+    robot = robot_named(value)
+    if robot is None or robot.name not in choices:
+        raise ValueError(f"the mission fits {', '.join(choices)}, not '{value}'")
+    return robot.name
 
 
 def format_value(value: str | float) -> str:
@@ -179,6 +205,9 @@ def variable_keys(mission: Mission) -> dict[str, Target]:
             targets[f"start.{axis}"] = Target(f"start.{axis}", "start", (axis,))
     if mission.robot.has_lidar:
         targets["noise.lidar_std"] = Target("noise.lidar_std", "data", ("noise", "lidar_std"))
+    if mission.robot.mobile and "robot" not in targets:  # a parameter of that name wins
+        fits = mission.supported_robots or MOBILE_ROBOTS
+        targets["robot"] = Target("robot", "robot", ("robot",), choices=tuple(fits))
     raw_events = mission.document.data.get("events") or []
     for index, event in enumerate(raw_events if isinstance(raw_events, list) else []):
         if not isinstance(event, dict):

@@ -24,6 +24,15 @@ def add_set(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def add_robot(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--robot NAME_OR_PATH``: a bundled robot or a robot file (``what`` it replaces)."""
+    parser.add_argument(
+        "--robot",
+        metavar="NAME_OR_PATH",
+        help=f"a bundled robot (see baobab list) or a robot YAML file, instead of {what}",
+    )
+
+
 def overrides(args: argparse.Namespace) -> dict[str, str]:
     """The ``--set`` values by key.
 

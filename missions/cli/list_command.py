@@ -6,6 +6,7 @@ import argparse
 from typing import Any
 
 from baobab.missions.run.exit_codes import EXIT_OK
+from baobab.robots.catalog import RobotInfo
 
 
 def configure_list(parser: argparse.ArgumentParser) -> None:
@@ -25,10 +26,7 @@ def catalogue() -> dict[str, Any]:
         "missions": bundled_missions(),
         "worlds": bundled_world_names(),
         "scenes": sorted({scene for robot in ROBOTS.values() for scene in robot.scenes}),
-        "robots": {
-            name: {"description": robot.description, "capabilities": sorted(robot.capabilities)}
-            for name, robot in ROBOTS.items()
-        },
+        "robots": {name: robot_entry(robot) for name, robot in ROBOTS.items()},
         "behaviours": {
             behaviour.name: {
                 "kind": behaviour.kind.value,
@@ -39,6 +37,34 @@ def catalogue() -> dict[str, Any]:
             for behaviour in registry
         },
     }
+
+
+def robot_entry(robot: RobotInfo) -> dict[str, Any]:
+    """What ``baobab list`` says of one robot: description, capabilities, aliases and, for a
+    mobile robot, its footprint (m), speed limits (m/s, rad/s) and lidar."""
+    entry: dict[str, Any] = {
+        "description": robot.description,
+        "capabilities": sorted(robot.capabilities),
+        "aliases": list(robot.aliases),
+    }
+    facts = robot.facts
+    if facts is not None:
+        footprint = facts.footprint
+        entry["footprint"] = (
+            {"radius": footprint.radius}
+            if footprint.radius is not None
+            else {"polygon": [list(point) for point in footprint.polygon]}
+        )
+        entry["max_linear_speed"] = facts.max_linear_speed
+        entry["max_angular_speed"] = facts.max_angular_speed
+        lidar = facts.lidar
+        entry["lidar"] = {
+            "model": lidar.model,
+            "range": [lidar.range_min, lidar.range_max],
+            "rate": lidar.rate,
+            "beams": lidar.beams,
+        }
+    return entry
 
 
 def list_command(args: argparse.Namespace) -> int:
@@ -58,6 +84,8 @@ def list_command(args: argparse.Namespace) -> int:
     lines.append("robots:")
     for name, robot in listed["robots"].items():
         lines.append(f"  {name:<24} {', '.join(robot['capabilities'])}: {robot['description']}")
+        if robot["aliases"]:
+            lines.append(f"  {'':<24} also: {', '.join(robot['aliases'])}")
     lines.append("behaviours:")
     for kind in NodeKind:
         for name, info in listed["behaviours"].items():

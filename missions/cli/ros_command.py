@@ -26,8 +26,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from baobab.robots.catalog import DEFAULT_MOBILE_ROBOT, MOBILE_ROBOTS, ROBOTS
 from baobab.sim.errors import BaobabError, clip
 
+ARM_NAMES = tuple(name for name, robot in ROBOTS.items() if robot.runtime)
+"""The registry's arms, which run in their own scenes."""
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
 DEFAULT_DURATION = 60.0
 """Seconds of sim time a run lasts without ``--duration``."""
@@ -65,10 +68,13 @@ class NodeSpec:
     argv: list[str] = field(default_factory=list)
 
 
+_ARM = ARM_NAMES[0] if ARM_NAMES else "ARM"
+"""An arm of the registry, for the help's examples."""
+
 RUN_HELP = """\
 Run rclpy node files unmodified against the simulation, on sim time, in one process: each
 file's main() (or its __main__ block). The robot is on ROS's topics (/cmd_vel, /odom, /tf,
-/scan, ...; the Panda's /cartesian_impedance/*).
+/scan, ...; an arm's /cartesian_impedance/*).
 
 examples:
   baobab ros run pub_node.py sub_node.py -- --ros-args -p timer_period:=0.5
@@ -79,12 +85,12 @@ examples:
 exit status: 0 when the run lasted --duration, 1 when node code raised (its traceback), 2
 for a mistake in the command."""
 
-LAUNCH_HELP = """\
+LAUNCH_HELP = f"""\
 Run a Python launch file (LaunchDescription, DeclareLaunchArgument, LaunchConfiguration,
 IncludeLaunchDescription of a local file, LogInfo, launch_ros Node) against the simulation.
 
 example:
-  baobab ros launch exercise_pose_publisher.launch.py --robot panda \\
+  baobab ros launch exercise_pose_publisher.launch.py --robot {_ARM} \\
       goal:="[3.0, 0.6, 0.2, 0.3, 1.0, 0.0, 0.0, 0.0]"
 """
 
@@ -115,7 +121,11 @@ class _At(argparse.Action):
 def _common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--world", default=None, help="bundled world or world file (default walls)")
     parser.add_argument(
-        "--robot", default="turtlebot3", help="turtlebot3 (default) or panda (its own table scene)"
+        "--robot",
+        default=None,
+        metavar="NAME_OR_PATH",
+        help=f"a mobile robot ({', '.join(MOBILE_ROBOTS)}; default {DEFAULT_MOBILE_ROBOT}) or "
+        f"a robot file, or an arm in its own scene ({', '.join(ARM_NAMES)})",
     )
     parser.add_argument(
         "--duration",
@@ -206,11 +216,14 @@ def run_nodes(args: argparse.Namespace, specs: list[NodeSpec]) -> int:
         raise RosCommandError(f"--duration: expected a positive time, got {args.duration:g} s")
     seed = parse_seed(args.seed)
     start = None
-    if args.robot != "panda" and args.start is not None:
+    robot = args.robot or DEFAULT_MOBILE_ROBOT
+    if robot not in ARM_NAMES and args.start is not None:
+        from baobab.missions.cli.nav2_command import robot_footprint
         from baobab.sim.world import load_world
 
-        start = parse_start(args.start, load_world(args.world or "walls"))
-    bringup = bring_up(args.robot, args.world, seed=seed, start=start)
+        world = load_world(args.world or "walls")
+        start = parse_start(args.start, world, robot_footprint(robot))
+    bringup = bring_up(robot, args.world, seed=seed, start=start)
     runtime = bringup.runtime
     recorder = _recorder(args.record, runtime) if args.record is not None else None
     try:

@@ -35,13 +35,16 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from baobab.missions.cli.arguments import add_set, port, positive_int, video_size
+from baobab.missions.cli.arguments import add_robot, add_set, port, positive_int, video_size
 from baobab.missions.cli.interrupts import RunSignals
 from baobab.missions.cli.run_job import (
     FinishedRun,
+    RunRequest,
+    prepare_run_process,
     save_run,
     shower,
-    simulation_job,
+    simulate,
+    simulate_in_child,
 )
 from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.loader import Mission, load_mission
@@ -54,29 +57,25 @@ from baobab.missions.run.recording_hook import (
     DEFAULT_VIDEO_SIZE,
     RecordingOptions,
 )
+from baobab.robots.catalog import RobotInfo
 from baobab.sim.errors import BaobabError
 
 if TYPE_CHECKING:
+    from baobab.missions.run.child_process import StartedChild
     from baobab.missions.run.progress_display import LineProgress, LiveProgress
     from baobab.missions.testing.baseline import Baseline
 
 
-_ROBOT_KERNELS = {
-    "turtlebot3": ("baobab.robots.turtlebot3.base_kernel", "base_kernel"),
-    "panda": ("baobab.robots.panda.native_loop", "_arm_kernel"),
-}
-"""Per robot, the module and function of the compiled kernel its runs need first."""
-
-
-def kernels_cached(robot: str) -> bool:
-    """Whether numba's disk cache holds ``robot``'s kernel (if not, this run compiles them).
+def kernels_cached(robot: RobotInfo) -> bool:
+    """Whether numba's disk cache holds the kernel ``robot``'s runs need first (its registry
+    entry's ``kernel``; if not, this run compiles them).
 
     numba keeps an index file ``<module>.<function>-<line>.py<version>.nbi`` per cached
     function, in ``__pycache__`` beside the module or under ``NUMBA_CACHE_DIR``.
     """
-    if robot not in _ROBOT_KERNELS:
+    if robot.kernel is None:
         return True
-    module, function = _ROBOT_KERNELS[robot]
+    module, function = robot.kernel
     spec = importlib.util.find_spec(module)
     if spec is None or spec.origin is None:
         return True
@@ -93,6 +92,7 @@ def configure_run(parser: argparse.ArgumentParser) -> None:
         "mission", metavar="MISSION", help="a mission file, or the name of a bundled mission"
     )
     add_set(parser)
+    add_robot(parser, "the mission's robot (where the mission fits it)")
     parser.add_argument("--seed", type=int, help="override the mission's seed")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
     parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
@@ -158,7 +158,30 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
     recording = recording_options(args)
     if args.seed is not None and args.seed < 0:
         raise BaobabError(f"--seed must be >= 0, got {args.seed}")
-    mission = load_mission(resolve_mission(args.mission), overrides)
+    child = _start_run_process()
+    try:
+        return _checked_run(args, overrides, recording, child)
+    finally:
+        if child is not None:
+            child.discard()  # refused input: the run's process ends unused
+
+
+def _start_run_process() -> StartedChild | None:
+    """Fork the run's process now, to load the simulation stack while this one checks the
+    input; None where forking is not safe (the run then happens in this process)."""
+    from baobab.missions.run.child_process import fork_is_safe, start_child
+
+    return start_child(prepare_run_process) if fork_is_safe() else None
+
+
+def _checked_run(
+    args: argparse.Namespace,
+    overrides: Mapping[str, str],
+    recording: RecordingOptions,
+    child: StartedChild | None,
+) -> int:
+    """Load and check the mission, the baseline and the run folder; then run and report."""
+    mission = load_mission(resolve_mission(args.mission), overrides, robot=args.robot)
     baseline = None
     if args.baseline and not args.baseline.exists():  # made after the run: must be writable
         check_output_file("--baseline", args.baseline, create_folders=True)
@@ -166,16 +189,17 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
         from baobab.missions.testing.baseline import read_baseline
 
         baseline = read_baseline(args.baseline, mission.name)
-    # The simulation stack (MuJoCo, NumPy, the robots) loads only once the mission is valid,
-    # so a bad mission is refused as fast as by `baobab validate`; it loads in the run's own
-    # process, and the plotting stack in this one (see run/child_process.py).
+    # The simulation stack (MuJoCo, NumPy, the robots) never loads in this process, so a bad
+    # mission is refused as fast as by `baobab validate`: it loads in the run's own process,
+    # forked before the mission was loaded (and ended unused when the input is refused), and
+    # the plotting stack loads in this one while the run runs (see run/child_process.py).
     from baobab.missions.run.run_folder import claimed_run_folder, default_run_folder
 
     folder: Path = args.out if args.out is not None else default_run_folder(mission.name)
     signals = RunSignals()
     with signals.installed():
         with claimed_run_folder(folder):
-            outcome = _run_and_save(args, mission, recording, baseline, folder, signals)
+            outcome = _run_and_save(args, mission, recording, baseline, folder, signals, child)
         if outcome is None:
             return EXIT_NOT_INTENDED
         finished, saved_in = outcome
@@ -185,6 +209,23 @@ def run_command(args: argparse.Namespace, overrides: Mapping[str, str]) -> int:
         return signals.exit_code(finished.exit_code)
 
 
+def _title(args: argparse.Namespace, mission: Mission) -> str:
+    seed = mission.seed if args.seed is None else args.seed
+    return f"{mission.name}: {mission.robot.name} in {mission.world_name}, seed {seed}"
+
+
+def _display(args: argparse.Namespace, mission: Mission) -> LineProgress | LiveProgress:
+    """The progress display: live on a terminal, else plain lines (on stderr with --json)."""
+    from baobab.missions.run.progress_display import LineProgress, LiveProgress
+
+    stream = sys.stderr if args.json else sys.stdout
+    if stream.isatty():
+        return LiveProgress(stream, _title(args, mission))
+    stream.write(f"running {_title(args, mission)}\n")
+    stream.flush()
+    return LineProgress(stream)
+
+
 def _run_and_save(
     args: argparse.Namespace,
     mission: Mission,
@@ -192,53 +233,67 @@ def _run_and_save(
     baseline: Baseline | None,
     folder: Path,
     signals: RunSignals,
+    child: StartedChild | None,
 ) -> tuple[FinishedRun, Path | None] | None:
-    """Run (in a child process where that is safe), then write the run folder.
+    """Run (in the run's process where there is one), then write the run folder.
 
     Returns:
         The finished run and where its folder went (None: nowhere), or None when the run's
         process died without a result (said on stderr).
     """
-    from baobab.missions.run.child_process import ChildProcessDiedError, fork_is_safe, run_in_child
-    from baobab.missions.run.progress_display import LineProgress, LiveProgress
+    from baobab.missions.run.child_process import ChildProcessDiedError
 
-    stream = sys.stderr if args.json else sys.stdout
-    seed = mission.seed if args.seed is None else args.seed
-    title = f"{mission.name}: {mission.robot.name} in {mission.world_name}, seed {seed}"
-    progress: LineProgress | LiveProgress
-    if stream.isatty():
-        progress = LiveProgress(stream, title)
-    else:
-        progress = LineProgress(stream)
-        stream.write(f"running {title}\n")
-        stream.flush()
+    progress = _display(args, mission)
+    request = RunRequest(
+        mission,
+        args.seed,
+        args.realtime,
+        recording,
+        args.baseline,
+        baseline,
+        folder,
+        progress.schedule,
+    )
     try:
-        if not kernels_cached(mission.robot.name):
+        if not kernels_cached(mission.robot):
             sys.stderr.write(
                 "first run on this machine: compiling baobab's kernels "
                 "(about a minute; later runs load them from the cache)\n"
             )
         if not args.json:
-            progress.phase(_starting(mission.robot.name))
-        simulate = simulation_job(args, mission, recording, baseline, folder, progress, signals)
+            progress.phase(_starting(mission.robot))
         show = shower(progress)
         try:
-            if fork_is_safe():
-                finished = run_in_child(simulate, show, on_signal=signals.note)
+            if child is not None:
+                finished = child.run(
+                    simulate_in_child,
+                    request,
+                    show,
+                    on_signal=signals.note,
+                    meanwhile=_load_plotting,
+                    earlier=lambda: signals.first,
+                )
             else:
-                finished = simulate(show)
+                finished = simulate(request, signals, show)
         except ChildProcessDiedError as exc:
             print(f"baobab run: {exc}; no run folder was written", file=sys.stderr)
             return None
         finished.result["exit_code"] = signals.exit_code(finished.exit_code)
         if not args.json:
             progress.phase("writing the run folder...")
-        return finished, save_run(folder, finished)
+        return finished, save_run(request.folder, finished)
     finally:
         progress.close()
 
 
-def _starting(robot: str) -> str:
+def _load_plotting() -> None:
+    """Import the plotting stack in this process while the run's process simulates."""
+    from baobab.missions.run.plotting import load_plotting  # after the fork: NumPy's threads
+
+    load_plotting()
+
+
+def _starting(robot: RobotInfo) -> str:
     """What the live display says until the run's first tick."""
     if kernels_cached(robot):
         return "starting: loading MuJoCo, the world, the robot and its compiled kernels..."

@@ -1,13 +1,15 @@
 r"""``baobab run``'s run as a job in a process of its own, and saving what it sends back.
 
-The job runs the mission and, with ``--baseline``, compares or creates the baseline; it sends
-its progress, warnings and notes to the parent as :data:`RunMessage`\ s and ends with a
-:class:`FinishedRun`, which :func:`save_run` writes to the run folder (or a fallback folder).
+The job (:func:`simulate`, on a :class:`RunRequest`) runs the mission and, with
+``--baseline``, compares or creates the baseline; it sends its progress, warnings and notes to
+the parent as :data:`RunMessage`\ s and ends with a :class:`FinishedRun`, which
+:func:`save_run` writes to the run folder (or a fallback folder). The run's process is forked
+before the mission is loaded and loads the simulation stack meanwhile
+(:func:`prepare_run_process`); the request, plain data, reaches it through a pipe.
 """
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import sys
 import tempfile
@@ -23,7 +25,12 @@ from baobab.missions.run.recording_hook import RecordingOptions
 
 if TYPE_CHECKING:
     from baobab.missions.run.plot_data import PlotData
-    from baobab.missions.run.progress_display import LineProgress, LiveProgress, ProgressSnapshot
+    from baobab.missions.run.progress_display import (
+        LineProgress,
+        LiveProgress,
+        ProgressSchedule,
+        ProgressSnapshot,
+    )
     from baobab.missions.run.runner import RunRecord
     from baobab.missions.testing.baseline import Baseline
 
@@ -43,51 +50,84 @@ class FinishedRun:
 
 
 class ForwardedProgress:
-    """Sends the snapshots ``display`` would show (its ``due``) to be drawn by the parent."""
+    """Sends the snapshots the parent's display would show (its schedule says) to be drawn."""
 
-    def __init__(
-        self, display: LineProgress | LiveProgress, send: Callable[[RunMessage], None]
-    ) -> None:
-        self.display = display
+    def __init__(self, schedule: ProgressSchedule, send: Callable[[RunMessage], None]) -> None:
+        self.schedule = schedule
         self.send = send
 
     def update(self, snapshot: ProgressSnapshot) -> None:
         """Send ``snapshot`` when the display shows it."""
-        if self.display.due(snapshot):
+        if self.schedule.due(snapshot):
             self.send(("progress", snapshot))
 
 
-def simulation_job(
-    args: argparse.Namespace,
-    mission: Mission,
-    recording: RecordingOptions,
-    baseline: Baseline | None,
-    folder: Path,
-    progress: LineProgress | LiveProgress,
-    signals: RunSignals,
-) -> Callable[[Callable[[RunMessage], None]], FinishedRun]:
-    """The run as a job for :func:`~baobab.missions.run.child_process.run_in_child`."""
+@dataclass(frozen=True)
+class RunRequest:
+    """What the run needs, as plain data: it travels to a process forked before it was known.
 
-    def simulate(send: Callable[[RunMessage], None]) -> FinishedRun:
-        """The run, in its own process: progress and warnings go to ``send``."""
-        from baobab.missions.run.runner import run_mission
+    Attributes:
+        mission: the loaded mission.
+        seed: ``--seed``, or None for the mission's.
+        realtime: ``--realtime``.
+        recording: the recording flags, checked.
+        baseline_file: ``--baseline``, or None.
+        baseline: the baseline read from it, or None when it is to be created.
+        folder: the run folder (claimed by the parent).
+        schedule: which progress snapshots the parent's display shows.
+    """
 
-        record = run_mission(
-            mission,
-            seed=args.seed,
-            progress=ForwardedProgress(progress, send),
-            realtime=args.realtime,
-            recording=recording,
-            interrupted=signals.reason,
-            warn=lambda message: send(("warn", message)),
-        )
-        if args.baseline is not None:
-            _baseline(record, args.baseline, baseline, lambda note: send(("note", note)))
-        exit_code = signals.exit_code(record.exit_code)
-        trace = record.trace.text()
-        return FinishedRun(record.result_object(folder), trace, record.plot, exit_code)
+    mission: Mission
+    seed: int | None
+    realtime: bool
+    recording: RecordingOptions
+    baseline_file: Path | None
+    baseline: Baseline | None
+    folder: Path
+    schedule: ProgressSchedule
 
-    return simulate
+
+def simulate(
+    request: RunRequest, signals: RunSignals, send: Callable[[RunMessage], None]
+) -> FinishedRun:
+    """The run: progress and warnings go to ``send``; ``signals`` cancel it."""
+    from baobab.missions.run.runner import run_mission
+
+    record = run_mission(
+        request.mission,
+        seed=request.seed,
+        progress=ForwardedProgress(request.schedule, send),
+        realtime=request.realtime,
+        recording=request.recording,
+        interrupted=signals.reason,
+        warn=lambda message: send(("warn", message)),
+    )
+    if request.baseline_file is not None:
+        note = lambda text: send(("note", text))  # noqa: E731
+        _baseline(record, request.baseline_file, request.baseline, note)
+    exit_code = signals.exit_code(record.exit_code)
+    trace = record.trace.text()
+    return FinishedRun(record.result_object(request.folder), trace, record.plot, exit_code)
+
+
+def simulate_in_child(request: RunRequest, send: Callable[[RunMessage], None]) -> FinishedRun:
+    """The run in the process :func:`~baobab.missions.run.child_process.start_child` forked:
+    its own handlers for the signals the parent forwards first, then the run."""
+    from baobab.missions.run.child_process import handle_forwarded_signals
+
+    signals = RunSignals()
+    with signals.installed():
+        handle_forwarded_signals()
+        return simulate(request, signals, send)
+
+
+def prepare_run_process() -> None:
+    """What a run's process loads before it knows its mission: the run's modules (MuJoCo,
+    py_trees, numba) and the compiled control dispatcher every robot uses."""
+    import baobab.missions.run.runner  # noqa: F401  (imported for its cost, now)
+    from baobab.sim.native_control import load_dispatcher
+
+    load_dispatcher()
 
 
 def shower(progress: LineProgress | LiveProgress) -> Callable[[RunMessage], None]:

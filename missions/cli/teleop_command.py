@@ -1,11 +1,14 @@
-"""``baobab teleop --world NAME``: drive the TurtleBot3 with the keyboard, assisted teleop on.
+"""``baobab teleop --world NAME [--robot NAME_OR_PATH]``: drive a mobile robot with the keyboard,
+assisted teleop on.
 
-The robot starts at the world's spawn with its navigation server running one assisted teleop session
-without a time limit, so the collision projection slows it down near obstacles and stops it before
-them (:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the keyboard teleop's mapping
-(:mod:`baobab.robots.turtlebot3.teleop`: WASD or ZQSD, 0.25 m/s and 1.2 rad/s) with the terminal
-rules of :mod:`baobab.robots.turtlebot3.teleop_terminal` (a press holds for 0.4 s, space stops,
-``q`` quits). The simulation is paced to the wall clock, the one place where that is right, and a
+The robot (``--robot``: a bundled mobile robot or a robot file; the registry's default mobile
+robot without it) starts at the world's spawn with its navigation server running one assisted
+teleop session without a time limit, so the collision projection slows it down near obstacles
+and stops it before them (:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the
+keyboard teleop's mapping (:mod:`baobab.robots.diff_drive.teleop`: WASD or ZQSD, the seed's
+0.25 m/s and 1.2 rad/s within the robot's limits) with the terminal rules of
+:mod:`baobab.robots.diff_drive.teleop_terminal` (a press holds for 0.4 s, space stops, ``q``
+quits). The simulation is paced to the wall clock, the one place where that is right, and a
 status line shows the pose, the nearest obstacle and the scaling assisted teleop applies.
 
 :class:`TeleopSession` is the terminal-free part (keys in, sim advanced, status out);
@@ -25,8 +28,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, TextIO
 
 from baobab.missions.run.exit_codes import EXIT_INVALID, EXIT_OK
-from baobab.robots.turtlebot3.teleop import LAYOUTS, layout_named
-from baobab.robots.turtlebot3.teleop_terminal import (
+from baobab.robots.catalog import RobotInfo, default_mobile_robot
+from baobab.robots.diff_drive.teleop import LAYOUTS, layout_named
+from baobab.robots.diff_drive.teleop_terminal import (
     DEFAULT_HOLD_TIME,
     KeyAction,
     RawTerminal,
@@ -77,22 +81,28 @@ class TeleopStatus:
 
 
 class TeleopSession:
-    """A TurtleBot3 in ``world`` driven by key presses through assisted teleop (no terminal).
+    """A mobile robot in ``world`` driven by key presses through assisted teleop (no terminal).
 
     Args:
         world: where to drive; the robot starts at its default spawn.
         keys: the key rules (layout, hold time, speeds).
+        robot: the robot (default: the registry's default mobile robot).
     """
 
-    def __init__(self, world: World, keys: TerminalKeys) -> None:
-        from baobab.nav.server import build_navigation  # the navigation stack loads slowly
-        from baobab.robots.turtlebot3.robot import build_turtlebot3_sim  # MuJoCo: only to drive
+    def __init__(self, world: World, keys: TerminalKeys, robot: RobotInfo | None = None) -> None:
+        from baobab.nav.robot_params import navigation_params  # the navigation stack loads slowly
+        from baobab.nav.server import build_navigation
 
         self.world = world
         self.keys = keys
-        self.sim, self.robot = build_turtlebot3_sim(world)
+        self.info = robot or default_mobile_robot()
+        self.sim, self.robot = self.info.build_sim(world)
         self.server: NavigationServer = build_navigation(
-            self.sim, self.robot.base, self.robot.lidar, world
+            self.sim,
+            self.robot.base,
+            self.robot.lidar,
+            world,
+            params=navigation_params(self.info),
         )
         self.handle = self.server.assisted_teleop(0.0)
 
@@ -116,12 +126,10 @@ class TeleopSession:
 
     def status(self) -> TeleopStatus:
         """The robot now."""
-        from baobab.sim.geometry import nearest_obstacle  # numpy: not for the `baobab` parser
-
         base = self.robot.base
         pose = base.pose()
         linear, angular = base.body_velocity()
-        name, distance = nearest_obstacle(self.world, pose.x, pose.y)
+        name, clearance = self.robot.facts.footprint.clearance_in(self.world, pose)
         scaling = self.handle.feedback.get("scaling", 1.0)
         return TeleopStatus(
             time=self.sim.time,
@@ -131,7 +139,7 @@ class TeleopSession:
             linear=linear,
             angular=angular,
             nearest=name,
-            clearance=distance - base.facts.footprint_radius,
+            clearance=clearance,
             scaling=float(scaling),
             keys="".join(sorted(self.keys.held(self.sim.time))),
         )
@@ -205,6 +213,11 @@ def configure_teleop(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``baobab teleop``."""
     parser.add_argument("--world", required=True, help="a bundled world name (or a world file)")
     parser.add_argument(
+        "--robot",
+        metavar="NAME_OR_PATH",
+        help="a bundled mobile robot (see baobab list) or a robot YAML file",
+    )
+    parser.add_argument(
         "--layout",
         choices=sorted(LAYOUTS),
         default="wasd",
@@ -234,19 +247,24 @@ def teleop_command(args: argparse.Namespace) -> int:
 
     Raises:
         WorldError: for an unknown world (the CLI prints it and exits 2).
-        NavigatorSetupError: the world's default spawn is not free for the robot (exit 2).
+        RobotFileError: a robot file that cannot be used (exit 2).
+        NavigatorSetupError: an unknown or fixed robot, or a default spawn that is not free
+            for the robot (exit 2).
     """
     world = load_world(args.world)
-    from baobab.nav.navigator_robot import check_free
-    from baobab.robots.turtlebot3 import BURGER
+    from baobab.nav.navigator_robot import check_free, navigator_robot
 
-    check_free(world, world.spawn, BURGER.footprint_radius, what="the default spawn")
+    robot = navigator_robot(args.robot)
+    check_free(world, world.spawn, robot.mobile_facts.footprint, what="the default spawn")
     stdin = sys.stdin
     if stdin is None or not stdin.isatty():
         print("baobab teleop: needs an interactive terminal (stdin is not a TTY)", file=sys.stderr)
         return EXIT_INVALID
-    keys = TerminalKeys(layout_named(args.layout), hold_time=args.hold)
-    session = TeleopSession(world, keys)
+    linear, angular = robot.tuning.teleop_speeds
+    keys = TerminalKeys(
+        layout_named(args.layout), hold_time=args.hold, linear_speed=linear, angular_speed=angular
+    )
+    session = TeleopSession(world, keys, robot)
     out = sys.stdout
     width = _terminal_width()
     out.write(help_text(keys, world.name, width) + "\n\x1b[?25l")

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from baobab.missions.cli.arguments import add_set, overrides
+from baobab.missions.cli.arguments import add_robot, add_set, overrides
 from baobab.missions.cli.startup import loading_modules
 from baobab.missions.run.exit_codes import EXIT_INVALID, EXIT_OK
 from baobab.sim.errors import SourceError, one_line
@@ -26,6 +26,7 @@ def configure_validate(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``baobab validate``."""
     parser.add_argument("files", nargs="+", metavar="FILE", help="mission files")
     add_set(parser)
+    add_robot(parser, "each mission's robot (where the mission fits it)")
 
 
 def validate_command(args: argparse.Namespace) -> int:
@@ -39,7 +40,7 @@ def validate_command(args: argparse.Namespace) -> int:
     failed = 0
     for file in args.files:
         try:
-            mission = load_mission(file, values)
+            mission = load_mission(file, values, robot=args.robot)
         except SourceError as exc:
             print(exc, file=sys.stderr)
             failed += 1

@@ -199,7 +199,7 @@ class MissionChecks:
         if code is None:
             return
         robot = self.scope.robot
-        known = error_codes(robot.capabilities)
+        known = error_codes(robot)
         if isinstance(code, str) and code not in known:
             message = unknown_name("error code", code, known, f"runs of {robot.name}")
             raise self._error(("expect", "error_code"), message)

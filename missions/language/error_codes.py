@@ -7,9 +7,9 @@ controllers' 8xx, the arm's) or one of the run's own 99xx codes (:class:`Mission
 from __future__ import annotations
 
 import enum
-from collections.abc import Iterable
 
 from baobab.behaviours.ports import ARM, BASE_CONTROLLERS, NAVIGATION
+from baobab.robots.catalog import RobotInfo, load_attribute
 
 
 class MissionErrorCode(enum.IntEnum):
@@ -32,17 +32,17 @@ class MissionErrorCode(enum.IntEnum):
     """A wheel's measured speed stayed far from its command (motor or wheel failure)."""
 
 
-def error_codes(capabilities: Iterable[str]) -> dict[str, frozenset[int]]:
-    """Every code a run of a robot with ``capabilities`` can end with: name -> numbers.
+def error_codes(robot: RobotInfo) -> dict[str, frozenset[int]]:
+    """Every code a run of ``robot`` can end with: name -> numbers.
 
     A name can stand for several numbers (Nav2's ``TIMEOUT`` is 108 for the controller, 207
     for the planner...); ``expect: error_code`` compares names with names, numbers with numbers.
+    An arm's own codes are those its registry entry names (``error_codes``).
     """
     from baobab.nav import errors as nav_errors
-    from baobab.robots.panda.errors import ArmErrorCode
-    from baobab.robots.turtlebot3.controller_errors import BaseControllerError
+    from baobab.robots.diff_drive.controller_errors import BaseControllerError
 
-    given = set(capabilities)
+    given = set(robot.capabilities)
     enums: list[type[enum.IntEnum]] = [MissionErrorCode]
     if NAVIGATION in given:
         enums += [
@@ -54,8 +54,8 @@ def error_codes(capabilities: Iterable[str]) -> dict[str, frozenset[int]]:
         ]
     if BASE_CONTROLLERS in given:
         enums.append(BaseControllerError)
-    if ARM in given:
-        enums.append(ArmErrorCode)
+    if ARM in given and robot.error_codes:
+        enums.append(load_attribute(robot.error_codes))
     codes: dict[str, set[int]] = {}
     for codes_enum in enums:
         for member in codes_enum:

@@ -7,9 +7,11 @@ Order of work (each step's errors come before the next step's):
 2. ``params`` and the ``--set`` overrides; ``${name}`` substitution into start, tree, events,
    timeout and expect (and a refusal of ``${`` anywhere else);
 3. the top-level model (types, events, expectations);
-4. robot, world (a bundled name or a file inside the mission's folder), the mission's own
-   route graph (a GeoJSON file inside the folder, checked against the world) and locations
-   (the world's spawns and locations, then the mission's, which win);
+4. robot (a bundled name or a robot file inside the mission's folder, or the ``--robot``
+   override; one of ``robots:`` when the mission lists the robots it fits), world (a bundled
+   name or a file inside the mission's folder), the mission's own route graph (a GeoJSON file
+   inside the folder, checked against the world) and locations (the world's spawns and
+   locations, then the mission's, which win);
 5. start pose, the tree (node types, capabilities, parameters, goal poses in free space),
    every subtree body, then the cross-checks of events and expectations.
 """
@@ -45,7 +47,8 @@ from baobab.missions.language.params import (
     resolve_values,
 )
 from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
-from baobab.robots.catalog import ROBOTS, RobotInfo
+from baobab.robots.catalog import RobotInfo, robot_named
+from baobab.robots.robot_file import is_robot_path, load_robot, load_robot_file
 from baobab.sim.errors import unknown_name
 from baobab.sim.input_files import file_kind_problem
 from baobab.sim.route_graph_file import load_route_graph
@@ -67,7 +70,9 @@ class Mission:
         path: the mission file.
         name: the ``mission:`` value.
         description: free text.
-        robot: the robot's catalogue entry.
+        robot: the robot's registry entry (or its robot file's).
+        supported_robots: the bundled robots the mission fits (``robots:``); None: any that
+            has the capabilities its tree needs.
         world: the 2D world of a mobile robot; None for a fixed robot.
         world_name: the bundled world or scene name, or the world file's resolved path.
         start: the start pose of a mobile robot (the world's default spawn if not given).
@@ -88,6 +93,7 @@ class Mission:
     name: str
     description: str
     robot: RobotInfo
+    supported_robots: tuple[str, ...] | None
     world: World | None
     world_name: str
     start: Pose2D | None
@@ -110,6 +116,7 @@ def load_mission(
     *,
     text: str | None = None,
     registry: Registry | None = None,
+    robot: str | None = None,
 ) -> Mission:
     """Load, substitute and validate a mission file.
 
@@ -118,17 +125,21 @@ def load_mission(
         overrides: ``--set`` values by parameter name, as written on the command line.
         text: the file's content, if already in memory.
         registry: node types; default: :func:`default_registry`.
+        robot: ``--robot``: a bundled robot's name or a robot file's path (from the working
+            directory) that replaces the mission's ``robot:``, if the mission fits it.
 
     Raises:
         MissionError: the first problem, as ``path:line:col: message``.
         WorldError: a problem inside the world file the mission names.
+        RobotFileError: a problem inside the robot file the mission or ``robot`` names.
+        BaobabError: ``robot`` names no bundled robot.
     """
     mission_path = Path(path)
     if text is None:
         text = read_yaml_text(mission_path, MissionError)
     document = load_located_yaml(mission_path, MissionError, text=text)
     return _Loader(mission_path, document, text, registry or default_registry()).load(
-        overrides or {}
+        overrides or {}, robot
     )
 
 
@@ -145,11 +156,11 @@ class _Loader:
     def _error(self, path: KeyPath, message: str) -> MissionError:
         return located(self.document, path, message, self.origins)
 
-    def load(self, overrides: Mapping[str, str]) -> Mission:
+    def load(self, overrides: Mapping[str, str], robot_override: str | None) -> Mission:
         data = self._top_level()
         specs = self._params(data.get("params", {}))
         values = resolve_values(specs, overrides, self.document)
-        for key in ("mission", "world", "robot", "seed", "params", "locations"):
+        for key in ("mission", "world", "robot", "robots", "seed", "params", "locations"):
             if key in data:
                 check_no_placeholders(self.document, data[key], (key,))
         substitution = Substitution(
@@ -173,7 +184,7 @@ class _Loader:
                 origins=self.origins,
                 nouns={("expect",): "expectation", ("params",): "parameter"},
             ) from None
-        robot = ROBOTS[file.robot]
+        robot = self._robot(file, robot_override)
         world, world_name = self._world(file.world, robot)
         world = self._route_graph(file.route_graph, world)
         scope = MissionScope(
@@ -193,6 +204,7 @@ class _Loader:
             name=file.mission,
             description=file.description,
             robot=robot,
+            supported_robots=None if file.robots is None else tuple(file.robots),
             world=world,
             world_name=world_name,
             start=start,
@@ -251,27 +263,53 @@ class _Loader:
             if written not in bundled:
                 raise self._error(("world",), unknown_name("world", written, bundled))
             return load_world(written), written
-        resolved = self._file_in_folder(
-            "world", written, "world file", "give a bundled world name or a path inside the folder"
-        )
+        resolved = self._file_in_folder("world", written)
         return load_world(resolved), str(resolved)
 
-    def _file_in_folder(self, key: str, written: str, noun: str, hint: str) -> Path:
-        """The file the top-level ``key`` names, which must lie inside the mission's folder."""
+    def _file_in_folder(self, key: str, written: str) -> Path:
+        """The file ``written`` under ``key`` names, checked to lie inside the mission's folder."""
         relative = Path(written)
         folder = self.path.parent.resolve()
         resolved = (folder / relative).resolve()
         if relative.is_absolute() or not resolved.is_relative_to(folder):
-            raise self._error((key,), f"{noun} '{written}' is outside the mission's folder; {hint}")
+            raise self._error(
+                (key,),
+                f"{key} file '{written}' is outside the mission's folder; give "
+                + ("a" if key == "route_graph" else f"a bundled {key} name or a")
+                + " path inside the folder",
+            )
         try:
             problem = file_kind_problem(resolved.stat().st_mode)
         except OSError:
             problem = "does not exist"
         if problem == "does not exist":
-            raise self._error((key,), f"no {noun} '{written}' in the mission's folder")
+            raise self._error((key,), f"no {key} file '{written}' in the mission's folder")
         if problem is not None:
-            raise self._error((key,), f"{noun} '{written}' {problem}; expected a file")
+            raise self._error((key,), f"{key} file '{written}' {problem}; expected a file")
         return resolved
+
+    def _robot(self, file: MissionFile, override: str | None) -> RobotInfo:
+        """The mission's robot, or ``--robot``'s, checked against the robots it fits."""
+        if override is not None:
+            robot = load_robot(override)
+        elif is_robot_path(file.robot):
+            robot = load_robot_file(self._file_in_folder("robot", file.robot))
+        else:
+            found = robot_named(file.robot)
+            if found is None:  # pragma: no cover - the model checked the name
+                raise self._error(("robot",), f"unknown robot '{file.robot}'")
+            robot = found
+        supported = file.robots
+        if supported is not None and robot.name not in supported:
+            where = ("robots",) if override is not None else ("robot",)
+            given = f"--robot {override}" if override is not None else f"robot '{robot.name}'"
+            kind = "robot file" if robot.path else "robot"
+            raise self._error(
+                where,
+                f"{given}: this mission fits only {', '.join(supported)} (robots:), not the "
+                f"{kind} '{robot.name}'",
+            )
+        return robot
 
     def _route_graph(self, written: str | None, world: World | None) -> World | None:
         """The world with the mission's own route graph in place of its own, if it names one.
@@ -285,9 +323,7 @@ class _Loader:
             return world
         if world is None:
             raise self._error(("route_graph",), "a route graph needs a mobile robot's world")
-        resolved = self._file_in_folder(
-            "route_graph", written, "route graph file", "give a path inside the folder"
-        )
+        resolved = self._file_in_folder("route_graph", written)
         graph = load_route_graph(resolved)
         check_on_world(graph, world)
         return world.with_route_graph(graph)

@@ -25,7 +25,8 @@ from pydantic import (
 from baobab.behaviours.poses import POSE_REF_SCHEMA, POSE_SCHEMA, PlanarPose, Pose, parse_pose
 from baobab.behaviours.registry import NodeData
 from baobab.missions.language.params import PARAM_NAME_PATTERN, ParamSpec
-from baobab.robots.catalog import ROBOTS
+from baobab.robots.catalog import ROBOT_NAMES, ROBOTS, robot_named
+from baobab.robots.robot_file import is_robot_path
 from baobab.sim.errors import unknown_name
 from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import FieldValueError, empty_list
@@ -46,12 +47,33 @@ class _Strict(YamlModel):
 
 
 def _known_robot(name: str) -> str:
-    if name not in ROBOTS:
+    robot = robot_named(name)
+    if robot is None:
         raise ValueError(unknown_name("robot", name, ROBOTS))
-    return name
+    return robot.name
 
 
-RobotName = Annotated[str, AfterValidator(_known_robot), WithJsonSchema({"enum": list(ROBOTS)})]
+def _robot_or_file(name: str) -> str:
+    return name if is_robot_path(name) else _known_robot(name)
+
+
+RobotName = Annotated[
+    str, AfterValidator(_known_robot), WithJsonSchema({"enum": list(ROBOT_NAMES)})
+]
+"""A bundled robot's name or alias (validated to its name)."""
+RobotRef = Annotated[
+    str,
+    AfterValidator(_robot_or_file),
+    WithJsonSchema(
+        {
+            "anyOf": [
+                {"enum": list(ROBOT_NAMES)},
+                {"type": "string", "pattern": r"\.ya?ml$", "description": "a robot file"},
+            ]
+        }
+    ),
+]
+"""A bundled robot's name, or the path of a robot file inside the mission's folder."""
 WrittenPose = Annotated[Pose, PlainValidator(parse_pose), POSE_SCHEMA]
 
 
@@ -378,7 +400,14 @@ class MissionFile(_Strict):
         description="a Nav2 GeoJSON route graph file inside the mission's folder, in place of "
         "the world's",
     )
-    robot: RobotName
+    robot: RobotRef = Field(
+        description="a bundled robot's name, or a robot file path inside the mission's folder"
+    )
+    robots: list[RobotName] | None = Field(
+        default=None,
+        min_length=1,
+        description="the bundled robots this mission fits; robot: and --robot must be one",
+    )
     start: Annotated[Any, POSE_REF_SCHEMA] = Field(
         default=None, description="start pose or location; default: the world's spawn"
     )

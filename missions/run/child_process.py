@@ -2,8 +2,9 @@
 
 ``baobab run`` simulates in a child and writes the run folder in the parent, so the simulation
 stack (MuJoCo, numba's LLVM and the compiled kernels) and the plotting stack (matplotlib) are
-never in one process: the peak memory of a run is the larger of the two, not their sum, and a
-crash in native code (MuJoCo, a kernel) ends the run with a message naming the signal.
+never in one process: neither process holds both, and a crash in native code (MuJoCo, a
+kernel) ends the run with a message naming the signal. The parent loads its plotting stack
+while the child simulates (``meanwhile``), on the other core.
 
 The child is forked after the mission is loaded, so it starts from the parent's state with no
 second start-up (and with the parent's signal handlers). It runs in a process group of its
@@ -21,6 +22,7 @@ command, which loads no NumPy before the fork) and in the calling process when i
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import pickle
 import signal
@@ -34,6 +36,7 @@ from typing import Any, NoReturn, TypeVar
 from baobab.sim.errors import BaobabError, SourceError
 
 T = TypeVar("T")
+P = TypeVar("P")
 Send = Callable[[Any], None]
 
 _MESSAGE, _RETURN, _RAISE = "message", "return", "raise"
@@ -61,6 +64,7 @@ def run_in_child(
     job: Callable[[Send], T],
     on_message: Send,
     on_signal: Callable[[int], None] | None = None,
+    meanwhile: Callable[[], object] | None = None,
 ) -> T:
     """Run ``job(send)`` in a forked child and return what it returns.
 
@@ -69,6 +73,9 @@ def run_in_child(
             ``on_message`` in the parent; what it returns (or raises) must be picklable.
         on_message: called in the parent with each message, in order.
         on_signal: told (in the parent) of each :data:`FORWARDED` signal it passes on.
+        meanwhile: called in the parent right after the fork, while the child works (the
+            child's messages wait in the pipe until it returns): work the parent needs
+            afterwards, done on another core.
 
     Raises:
         BaseException: what ``job`` raised (KeyboardInterrupt and baobab's errors keep their
@@ -79,6 +86,105 @@ def run_in_child(
     Call it only where :func:`fork_is_safe` (or the job touches nothing other threads lock).
     """
     forwarding = threading.current_thread() is threading.main_thread()
+
+    def in_child(reader: Connection, writer: Connection) -> NoReturn:
+        if forwarding:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)
+        _child(job, reader, writer, own_group=forwarding)
+
+    child, reader = _fork(in_child, forwarding)
+    return _supervise(child, reader, on_message, on_signal, meanwhile, forwarding)
+
+
+class StartedChild:
+    """A child forked before its job is known: it prepares (imports) while this process works.
+
+    :func:`start_child` forks it; :meth:`run` sends it a job, :meth:`discard` ends it unused
+    (or once done). Signals to forward stay blocked in the child until its job handles them:
+    the job calls :func:`handle_forwarded_signals` once it has installed its handlers.
+    """
+
+    def __init__(self, child: _Child, reader: Connection, jobs: Connection) -> None:
+        self._child = child
+        self._reader = reader
+        self._jobs = jobs
+        self._used = False
+
+    def run(
+        self,
+        job: Callable[[P, Send], T],
+        payload: P,
+        on_message: Send,
+        on_signal: Callable[[int], None] | None = None,
+        meanwhile: Callable[[], object] | None = None,
+        earlier: Callable[[], int | None] = lambda: None,
+    ) -> T:
+        """Run ``job(payload, send)`` in the child, as :func:`run_in_child` runs its job.
+
+        ``job`` (a module-level function) and ``payload`` travel pickled. ``earlier`` says
+        which signal this process got before the child was told to run, if any: the child
+        gets it too, once its job handles signals.
+        """
+        if self._used:
+            raise RuntimeError("a started child runs one job")
+        self._used = True
+        signal.pthread_sigmask(signal.SIG_BLOCK, FORWARDED)  # until they are forwarded
+        try:
+            self._jobs.send((job, payload))
+        except OSError:
+            pass  # the child died while preparing: _supervise reports how
+        finally:
+            self._jobs.close()
+        return _supervise(
+            self._child, self._reader, on_message, on_signal, meanwhile, True, earlier()
+        )
+
+    def discard(self) -> None:
+        """End the child if it never ran a job, and reap it (idempotent)."""
+        if not self._used:
+            self._used = True
+            self._jobs.close()
+            self._reader.close()
+            self._child.kill()
+            self._child.wait()
+
+
+def start_child(prepare: Callable[[], object]) -> StartedChild:
+    """Fork a child that runs ``prepare()`` (say, imports) and then waits for a job.
+
+    Call it only from the main thread, where :func:`fork_is_safe`. A ``prepare`` that raises
+    is ignored: the job meets the same problem and reports it. The child leaves quietly if
+    this process goes away without sending a job.
+    """
+    jobs_reader, jobs_writer = Pipe(duplex=False)
+
+    def in_child(reader: Connection, writer: Connection) -> NoReturn:
+        jobs_writer.close()
+        try:
+            with contextlib.suppress(Exception):
+                prepare()
+            job, payload = jobs_reader.recv()
+        except BaseException:  # no job: the parent is gone or changed its mind
+            os._exit(0)
+        jobs_reader.close()
+        _child(functools.partial(job, payload), reader, writer, own_group=True)
+
+    child, reader = _fork(in_child, True)
+    jobs_reader.close()
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)  # this process's own, until run()
+    return StartedChild(child, reader, jobs_writer)
+
+
+def handle_forwarded_signals() -> None:
+    """In a started child's job, once it handles :data:`FORWARDED`: let them arrive."""
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)
+
+
+def _fork(
+    in_child: Callable[[Connection, Connection], NoReturn], forwarding: bool
+) -> tuple[_Child, Connection]:
+    """Fork with :data:`FORWARDED` blocked; they stay blocked here until _supervise forwards
+    them (or the caller unblocks them)."""
     reader, writer = Pipe(duplex=False)
     for stream in (sys.stdout, sys.stderr):
         stream.flush()
@@ -90,14 +196,27 @@ def run_in_child(
         signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)
         raise
     if pid == 0:
-        if forwarding:
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)
-        _child(job, reader, writer, own_group=forwarding)
+        in_child(reader, writer)
     writer.close()
     child = _Child(pid)
-    previous = {}
     if forwarding:
         _join_own_group(pid)
+    return child, reader
+
+
+def _supervise(
+    child: _Child,
+    reader: Connection,
+    on_message: Send,
+    on_signal: Callable[[int], None] | None,
+    meanwhile: Callable[[], object] | None,
+    forwarding: bool,
+    earlier: int | None = None,
+) -> Any:
+    """Forward signals to ``child`` (blocked until now: none is lost, none counted twice),
+    pass on its messages, return its result; reap it. ``earlier``: a signal to pass on now."""
+    previous = {}
+    if forwarding:
 
         def forward(signum: int, _frame: object) -> None:
             child.interrupt(signum)
@@ -105,9 +224,13 @@ def run_in_child(
                 on_signal(signum)
 
         previous = {signum: signal.signal(signum, forward) for signum in FORWARDED}
+        if earlier is not None:
+            child.interrupt(earlier)
         signal.pthread_sigmask(signal.SIG_UNBLOCK, FORWARDED)
     finished = False
     try:
+        if meanwhile is not None:
+            meanwhile()
         result = _receive(reader, on_message, child)
         finished = True
         return result

@@ -14,11 +14,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
+from baobab.missions.run.plot_data import PlacedObstacle
 from baobab.sim.builder import movable_slot_name
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import Simulation
@@ -65,18 +65,6 @@ class TeleopChannel:
     def subscribe(self, listener: TeleopListener) -> None:
         """Call ``listener(twist_or_none)`` on every change."""
         self._listeners.append(listener)
-
-
-@dataclass(frozen=True)
-class PlacedObstacle:
-    """A run-time obstacle where it stands now: centre (m), yaw (rad), full size (m), slot."""
-
-    name: str
-    slot: str
-    x: float
-    y: float
-    yaw: float
-    size: tuple[float, float, float]
 
 
 class ObstacleSlots:

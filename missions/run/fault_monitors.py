@@ -7,7 +7,7 @@ timestamp, and allocates nothing per call (the scan buffers are made once):
 - ``ROBOT_DISPLACED``: the pose moved farther between two checks than the robot can drive
   (a kidnapped robot; a localisation jump on a real one).
 - ``SENSOR_TIMEOUT``: no lidar scan for ``scan_timeout`` s (Nav2's "sensor data out of date";
-  the LDS-01 scans every 0.2 s). A shorter dropout is ridden through.
+  five of the lidar's scan periods). A shorter dropout is ridden through.
 - ``SENSOR_DEGRADED``: the scan has been rough for ``degraded_for`` s: most pairs of
   neighbouring beams differ by more than ``rough_step`` m, which walls, furniture and edges
   do not do but range noise of about 0.1 m and more does. A shorter burst is ridden through.
@@ -31,19 +31,25 @@ import numpy as np
 
 from baobab.missions.run.rig import MobileRig, Rig
 from baobab.missions.run.tick_loop import MissionErrorCode
-from baobab.robots.turtlebot3.robot import TurtleBot3
+from baobab.robots.catalog import default_mobile_robot
+from baobab.robots.diff_drive.robot import MobileRobot
+from baobab.robots.tuning import RobotTuning
 from baobab.sim.simulation import Simulation
+
+_ROBOT = default_mobile_robot().tuning
 
 
 @dataclass(frozen=True)
 class MonitorParams:
     """Thresholds of the fault monitors (SI units).
 
+    The defaults are the registry's default mobile robot's; :meth:`for_robot` gives a robot's
+    (:mod:`baobab.robots.tuning`: three times its limits, at least 2 m/s and 10 rad/s; five
+    scan periods).
+
     Attributes:
-        max_plausible_speed: m/s; a pose that moved faster between two checks was displaced
-            (the Burger drives at most 0.22 m/s).
-        max_plausible_turn_rate: rad/s; the same for the heading (the Burger turns at most
-            2.84 rad/s).
+        max_plausible_speed: m/s; a pose that moved faster between two checks was displaced.
+        max_plausible_turn_rate: rad/s; the same for the heading.
         jump_margin: m and rad added to both bounds, for contact jitter.
         scan_timeout: s without a scan before SENSOR_TIMEOUT.
         rough_step: m; neighbouring beams differing by more are a rough pair.
@@ -57,10 +63,10 @@ class MonitorParams:
         wheel_fault_for: s of mismatch before WHEEL_FAULT.
     """
 
-    max_plausible_speed: float = 2.0
-    max_plausible_turn_rate: float = 10.0
+    max_plausible_speed: float = _ROBOT.plausible_speeds[0]
+    max_plausible_turn_rate: float = _ROBOT.plausible_speeds[1]
     jump_margin: float = 0.05
-    scan_timeout: float = 1.0
+    scan_timeout: float = _ROBOT.scan_timeout
     rough_step: float = 0.1
     rough_fraction: float = 0.5
     min_pairs: int = 30
@@ -68,6 +74,16 @@ class MonitorParams:
     wheel_mismatch: float = 0.5
     wheel_mismatch_ratio: float = 0.05
     wheel_fault_for: float = 0.5
+
+    @classmethod
+    def for_robot(cls, tuning: RobotTuning) -> MonitorParams:
+        """The thresholds a robot's limits and lidar rate decide; the others as defaulted."""
+        speed, turn_rate = tuning.plausible_speeds
+        return cls(
+            max_plausible_speed=speed,
+            max_plausible_turn_rate=turn_rate,
+            scan_timeout=tuning.scan_timeout,
+        )
 
 
 Detection = tuple[MissionErrorCode, str]
@@ -117,7 +133,7 @@ class FaultMonitors(DivergenceWatch):
     """
 
     def __init__(
-        self, sim: Simulation, robot: TurtleBot3, params: MonitorParams | None = None
+        self, sim: Simulation, robot: MobileRobot, params: MonitorParams | None = None
     ) -> None:
         super().__init__(sim)
         self.base = robot.base
@@ -251,7 +267,7 @@ _INDEXED_WARNINGS = (
 
 
 def _element_name(model: mujoco.MjModel, field: str, index: int) -> str:
-    """``joint 'tb3/root'`` for a qpos/dof index, ``actuator '...'`` for a control index."""
+    """``joint 'robot/root'`` for a qpos/dof index, ``actuator '...'`` for a control index."""
     if field == "ctrl":
         return f"actuator '{model.actuator(index).name}'" if 0 <= index < model.nu else ""
     if field == "qpos":
@@ -268,5 +284,5 @@ def _element_name(model: mujoco.MjModel, field: str, index: int) -> str:
 def fault_monitors(rig: Rig) -> DivergenceWatch:
     """The watch for ``rig``: every monitor for a mobile robot, divergences for any other."""
     if isinstance(rig, MobileRig):
-        return FaultMonitors(rig.sim, rig.robot)
+        return FaultMonitors(rig.sim, rig.robot, MonitorParams.for_robot(rig.info.tuning))
     return DivergenceWatch(rig.sim)

@@ -29,8 +29,8 @@ from typing import Any
 import numpy as np
 
 from baobab.missions.language.models import FaultEvent
-from baobab.missions.run.rig import MobileRig, Rig
-from baobab.robots.turtlebot3.robot import TurtleBot3
+from baobab.missions.run.rig import ArmRig, MobileRig, Rig
+from baobab.robots.diff_drive.robot import MobileRobot
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import Simulation
 from baobab.sim.world import Pose2D
@@ -51,7 +51,7 @@ class FaultInjector:
     """
 
     def __init__(
-        self, sim: Simulation, diverge_joint: str, robot: TurtleBot3 | None = None
+        self, sim: Simulation, diverge_joint: str, robot: MobileRobot | None = None
     ) -> None:
         self.sim = sim
         self.robot = robot
@@ -115,23 +115,23 @@ class FaultInjector:
                 actuator.gainprm[:] = gain
                 actuator.biasprm[:] = bias
 
-    def _mobile(self, kind: str) -> TurtleBot3:
+    def _mobile(self, kind: str) -> MobileRobot:
         if self.robot is None:
             raise FaultError(f"a {kind} fault needs a mobile robot")
         return self.robot
 
     @staticmethod
-    def _wheel_actuator(robot: TurtleBot3, wheel: str) -> str:
+    def _wheel_actuator(robot: MobileRobot, wheel: str) -> str:
         left, right = robot.names.wheel_actuators
         return left if wheel == "left" else right
 
 
 def fault_injector(rig: Rig) -> FaultInjector:
-    """The injector for ``rig``'s robot: a TurtleBot3 takes every fault, an arm ``diverge``."""
+    """The injector for ``rig``'s robot: a mobile robot takes every fault, an arm ``diverge``
+    (on the joint its runtime names)."""
     if isinstance(rig, MobileRig):
         robot = rig.robot
         return FaultInjector(rig.sim, robot.names.root_joint, robot)
-    from baobab.robots.panda.model import ARM_JOINTS
-    from baobab.robots.panda.scene import PREFIX
-
-    return FaultInjector(rig.sim, PREFIX + ARM_JOINTS[0])
+    if not isinstance(rig, ArmRig):  # pragma: no cover - every rig is one of the two
+        raise FaultError(f"no faults for {type(rig).__name__}")
+    return FaultInjector(rig.sim, rig.runtime.ROOT_JOINT)

@@ -15,7 +15,7 @@ from array import array
 from collections.abc import Mapping
 
 from baobab.missions.run.metrics import MetricRegistry
-from baobab.robots.turtlebot3.base import DiffDriveBase
+from baobab.robots.diff_drive.base import DiffDriveBase
 from baobab.sim.simulation import Simulation
 
 VISIT_RADIUS = 0.3

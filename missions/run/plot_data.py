@@ -10,11 +10,22 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from baobab.missions.run.event_targets import PlacedObstacle
 from baobab.sim.world import World
 
 Point = tuple[float, float]
 """A map-frame position (m)."""
+
+
+@dataclass(frozen=True)
+class PlacedObstacle:
+    """A run-time obstacle where it stands now: centre (m), yaw (rad), full size (m), slot."""
+
+    name: str
+    slot: str
+    x: float
+    y: float
+    yaw: float
+    size: tuple[float, float, float]
 
 
 @dataclass(frozen=True)
@@ -43,6 +54,8 @@ class MobilePlot:
     hit_points: list[Point] = field(default_factory=list)
     leave_points: list[Point] = field(default_factory=list)
     min_clearance_at: Point | None = None
+    footprints: list[list[Point]] = field(default_factory=list)
+    """The robot's footprint (its outline, map frame) at the start and at the end."""
 
 
 @dataclass

@@ -26,40 +26,84 @@ if TYPE_CHECKING:
 
 MANY_GOALS = 12
 """With more goals than this, goal markers and labels are drawn smaller."""
-MAX_TRAJECTORY_POINTS = 2000
+MAX_TRAJECTORY_POINTS = 600
 """The driven path is thinned to about this many points for drawing."""
 FLOOR_TINT = 0.35
 """How much of the world's floor colour the map background keeps (the rest is white)."""
+DPI = 110
+MAP_MARGINS = {"left": 0.8, "right": 0.1, "bottom": 0.95, "top": 0.35}
+"""Around the map view (inches): the axis labels, the legend below, the title above."""
+PNG_COMPRESSION = 3
+"""zlib level of plot.png: level 3 writes in a third of the default's time, ~10 % larger."""
 COSTMAP_CMAP = "Purples"
 COSTMAP_ALPHA = 0.45
 OBSTACLE_EDGE = (0.2, 0.2, 0.2)
 
 
-def save_plot(data: PlotData, path: Path) -> None:
-    """Draw ``data`` and write it as a PNG to ``path``."""
+def load_plotting() -> None:
+    """Import matplotlib (Agg) and the parts the plot draws with: about half a second.
+
+    ``baobab run`` calls it in the process that writes the run folder while the run's own
+    process simulates, so that the import is off the path from the run's end to its result.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
+    import matplotlib.collections
+    import matplotlib.figure
+    import matplotlib.patches
+    import matplotlib.patheffects
+
+
+def save_plot(data: PlotData, path: Path) -> None:
+    """Draw ``data`` and write it as a PNG to ``path``.
+
+    The figure is laid out by hand (fixed margins in inches): matplotlib's constrained layout
+    draws the figure twice and cost as much as the drawing itself.
+    """
+    load_plotting()
     from matplotlib.figure import Figure
 
-    size = (8.0, 8.0)
     if isinstance(data, MobilePlot):
-        x_min, y_min, x_max, y_max = data.world.bounds
-        aspect = (y_max - y_min) / max(x_max - x_min, 1e-9)
-        size = (8.0, min(12.0, max(5.0, 6.5 * aspect + 1.5)))
-    elif data.tracking_errors:
-        size = (12.5, 5.5)
-    figure = Figure(figsize=size, dpi=110, layout="constrained")
-    if isinstance(data, MobilePlot):
+        figure = Figure(figsize=_map_size(data.world), dpi=DPI)
+        _margins(figure, **MAP_MARGINS)
         _mobile(figure.add_subplot(), data)
     elif data.tracking_errors:
+        figure = Figure(figsize=(12.5, 5.5), dpi=DPI)
+        _margins(figure, left=0.3, right=0.3, bottom=0.6, top=0.6, wspace=0.35)
         figure.suptitle(data.title, fontsize=10)
         _arm(figure.add_subplot(1, 2, 1, projection="3d"), data)
         _tracking_error(figure.add_subplot(1, 2, 2), data)
     else:
+        figure = Figure(figsize=(8.0, 8.0), dpi=DPI)
+        _margins(figure, left=0.3, right=0.3, bottom=0.3, top=0.6)
         _arm(figure.add_subplot(projection="3d"), data)
         figure.suptitle(data.title, fontsize=10)
-    figure.savefig(path)
+    figure.savefig(path, pil_kwargs={"compress_level": PNG_COMPRESSION})
+
+
+def _map_size(world: World) -> tuple[float, float]:
+    """The figure size (inches) at which the map fills its axes: 8 wide, 5 to 12 high."""
+    x_min, y_min, x_max, y_max = world.bounds
+    aspect = (y_max - y_min + 0.4) / max(x_max - x_min + 0.4, 1e-9)
+    # The colour bar takes its fraction and pad of the width left between the margins.
+    axes_width = (8.0 - MAP_MARGINS["left"] - MAP_MARGINS["right"]) * (1 - 0.15 - 0.05)
+    height = axes_width * aspect + MAP_MARGINS["bottom"] + MAP_MARGINS["top"]
+    return 8.0, min(12.0, max(5.0, height))
+
+
+def _margins(
+    figure: Any, *, left: float, right: float, bottom: float, top: float, **more: Any
+) -> None:
+    """Leave these margins (inches) around the subplots."""
+    width, height = figure.get_size_inches()
+    figure.subplots_adjust(
+        left=left / width,
+        right=1 - right / width,
+        bottom=bottom / height,
+        top=1 - top / height,
+        **more,
+    )
 
 
 def _mobile(axes: Axes, data: MobilePlot) -> None:
@@ -75,6 +119,7 @@ def _mobile(axes: Axes, data: MobilePlot) -> None:
     _planned_paths(axes, data.planned_paths)
     if len(data.xs) > 1:
         _trajectory(axes, data)
+    _footprints(axes, data.footprints)
     _markers(axes, data)
     _locations(axes, data, halo)
     _goals(axes, data, halo)
@@ -84,7 +129,7 @@ def _mobile(axes: Axes, data: MobilePlot) -> None:
     axes.set_xlabel("x (m)")
     axes.set_ylabel("y (m)")
     axes.set_title(data.title, fontsize=10)
-    axes.figure.legend(loc="outside lower center", ncol=7, fontsize=7)
+    axes.figure.legend(loc="lower center", ncol=7, fontsize=7)
 
 
 def _floor(axes: Axes, world: World) -> None:
@@ -154,19 +199,27 @@ def _obstacles(axes: Axes, data: MobilePlot, halo: list[Any]) -> None:
 
 
 def _planned_paths(axes: Axes, paths: Sequence[np.ndarray]) -> None:
-    """Every distinct plan, the first one strongest."""
-    for index, path in enumerate(paths):
-        if len(path):
-            axes.plot(
-                path[:, 0],
-                path[:, 1],
-                "--",
-                color="tab:blue",
-                lw=1.0,
-                alpha=0.8 if index == 0 else 0.25,
-                zorder=3,
-                label="planned paths" if index == 0 else None,
-            )
+    """Every distinct plan, the first one strongest (the others as one collection)."""
+    from matplotlib.collections import LineCollection
+
+    drawn = [path for path in paths if len(path)]
+    if not drawn:
+        return
+    first = drawn[0]
+    style: dict[str, Any] = {"color": "tab:blue", "lw": 1.0, "zorder": 3}
+    axes.plot(first[:, 0], first[:, 1], "--", alpha=0.8, label="planned paths", **style)
+    if len(drawn) > 1:
+        axes.add_collection(
+            LineCollection(
+                [path[:, :2] for path in drawn[1:]],
+                colors=style["color"],
+                linewidths=style["lw"],
+                linestyles="--",
+                alpha=0.25,
+                zorder=style["zorder"],
+            ),
+            autolim=False,
+        )
 
 
 def _trajectory(axes: Axes, data: MobilePlot) -> None:
@@ -190,6 +243,25 @@ def _trajectory(axes: Axes, data: MobilePlot) -> None:
     ring: dict[str, Any] = {"mfc": "none", "mec": "black", "mew": 1.8, "ms": 12}
     axes.plot(*start, "o", **ring, zorder=5.5, label="start")
     axes.plot(*end, "s", color="black", ms=5, zorder=5.5, label="end")
+
+
+def _footprints(axes: Axes, outlines: list[list[tuple[float, float]]]) -> None:
+    """The robot's footprint, as the navigation stack sees it, where it started and ended."""
+    from matplotlib.patches import Polygon
+
+    for index, outline in enumerate(outlines):
+        axes.add_patch(
+            Polygon(
+                outline,
+                closed=True,
+                fill=False,
+                edgecolor="black",
+                linestyle="--",
+                linewidth=1.0,
+                zorder=5.2,
+                label="footprint" if index == 0 else None,
+            )
+        )
 
 
 def _markers(axes: Axes, data: MobilePlot) -> None:

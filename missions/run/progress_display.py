@@ -70,6 +70,49 @@ def describe(snapshot: ProgressSnapshot) -> str:
     return " | ".join(parts)
 
 
+class ProgressSchedule(Protocol):
+    """Decides which snapshots a display shows (kept apart from the display: plain data)."""
+
+    def due(self, snapshot: ProgressSnapshot) -> bool:
+        """Whether ``snapshot`` is shown."""
+        ...
+
+
+class LineSchedule:
+    """When a progress line is due: on a new leaf, or every ``every`` s of sim time.
+
+    Plain data, so that the run's process can decide what to send (``baobab run``).
+    """
+
+    def __init__(self, every: float = 10.0) -> None:
+        self.every = every
+        self._leaf: str | None = None
+        self._next = 0.0
+
+    def due(self, snapshot: ProgressSnapshot) -> bool:
+        """Whether ``snapshot`` gets a line (a new leaf, or ``every`` s of sim time passed)."""
+        if snapshot.leaf == self._leaf and snapshot.sim_time < self._next:
+            return False
+        self._leaf = snapshot.leaf
+        self._next = snapshot.sim_time + self.every
+        return True
+
+
+class RedrawSchedule:
+    """When a live redraw is due: :data:`REDRAW_PERIOD` of wall time since the last one."""
+
+    def __init__(self) -> None:
+        self._last = 0.0
+
+    def due(self, _snapshot: ProgressSnapshot) -> bool:
+        """Whether a redraw is due now."""
+        now = time.monotonic()
+        if now - self._last < REDRAW_PERIOD:
+            return False
+        self._last = now
+        return True
+
+
 class LineProgress:
     """Plain progress lines on ``stream``.
 
@@ -80,23 +123,13 @@ class LineProgress:
 
     def __init__(self, stream: IO[str], every: float = 10.0) -> None:
         self.stream = stream
-        self.every = every
-        self._leaf: str | None = None
-        self._next = 0.0
+        self.schedule = LineSchedule(every)
         self._closed = False  # the reader went away (`baobab run ... | head`)
 
     def update(self, snapshot: ProgressSnapshot) -> None:
         """Write a line on a new leaf or when ``every`` s of sim time have passed."""
-        if self.due(snapshot):
+        if self.schedule.due(snapshot):
             self.draw(snapshot)
-
-    def due(self, snapshot: ProgressSnapshot) -> bool:
-        """Whether ``snapshot`` gets a line (a new leaf, or ``every`` s of sim time passed)."""
-        if snapshot.leaf == self._leaf and snapshot.sim_time < self._next:
-            return False
-        self._leaf = snapshot.leaf
-        self._next = snapshot.sim_time + self.every
-        return True
 
     def draw(self, snapshot: ProgressSnapshot) -> None:
         """Write the line of ``snapshot``; nothing once the stream's reader has gone."""
@@ -131,20 +164,12 @@ class LiveProgress:
         self.title = title
         self._live = Live(console=self.console, auto_refresh=False, transient=True)
         self._live.start()
-        self._last = 0.0
+        self.schedule = RedrawSchedule()
 
     def update(self, snapshot: ProgressSnapshot) -> None:
         """Redraw, at most every :data:`REDRAW_PERIOD` of wall time."""
-        if self.due(snapshot):
+        if self.schedule.due(snapshot):
             self.draw(snapshot)
-
-    def due(self, _snapshot: ProgressSnapshot) -> bool:
-        """Whether a redraw is due: :data:`REDRAW_PERIOD` of wall time since the last one."""
-        now = time.monotonic()
-        if now - self._last < REDRAW_PERIOD:
-            return False
-        self._last = now
-        return True
 
     def draw(self, snapshot: ProgressSnapshot) -> None:
         """Redraw the status block with ``snapshot``."""

@@ -12,8 +12,8 @@ knows only one callable. Built after the rig and the compiled tree, it starts wh
   stamped with the wall clock and paced to it; a client the server refuses is reported
   through ``warn`` once per address.
 - ``video``: an H.264 MP4, one frame every ``1 / fps`` s of sim time, filmed by a chase
-  camera behind the TurtleBot3 that rises over walls so the robot shows in every frame, or
-  from a fixed 3/4 view that the Panda and its table fill; each frame says the sim time, the
+  camera behind the mobile robot that rises over walls so the robot shows in every frame, or
+  from a fixed 3/4 view that the arm and its table fill; each frame says the sim time, the
   running tasks and their goals (:mod:`baobab.missions.run.video_caption`).
 - ``btlog``: a Groot2 replay log (BehaviorTree.CPP ``FileLogger2``) of the tree's status
   changes; its node uids are those of :func:`~baobab.missions.language.tree_export.to_btcpp_log`.
@@ -339,20 +339,20 @@ class RecordingHook:
 
 
 def video_camera(rig: Rig, aspect: float) -> Camera:
-    """What films ``rig``'s run: a chase camera behind a mobile robot, the Panda's scene view.
+    """What films ``rig``'s run: a chase camera behind a mobile robot, an arm's scene view.
 
     Args:
         rig: the robot, in its start state.
         aspect: the video's width over its height.
     """
-    from baobab.missions.run.rig import MobileRig
+    from baobab.missions.run.rig import ArmRig, MobileRig
     from baobab.sim.chase_camera import ChaseCamera
 
     if isinstance(rig, MobileRig):
         return ChaseCamera(rig.robot.names.body)
-    from baobab.robots.panda.scene import video_view
-
-    return video_view(rig.sim, aspect)
+    if not isinstance(rig, ArmRig):  # pragma: no cover - every rig is one of the two
+        raise TypeError(f"no camera for {type(rig).__name__}")
+    return rig.runtime.video_view(rig.sim, aspect)
 
 
 def _tree_nodes(compiled: CompiledMission) -> list[_TreeNode]:

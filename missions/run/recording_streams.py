@@ -1,18 +1,20 @@
 """What a recording of a run holds: the sim callbacks that log a robot's topics.
 
 Every callback only reads the simulation, so a recorded run is the same run (same trace
-digest) as an unrecorded one. Rates (sim time), following the topics Nav2 and the Franka
-impedance controller publish:
+digest) as an unrecorded one. Rates (sim time), following the topics Nav2 and the Cartesian
+impedance controllers of ROS arms publish:
 
-- TurtleBot3: ``/tf`` (map -> odom -> base_link), ``/robot_pose`` and the followed-path trail
+- a mobile robot: ``/tf`` (map -> odom -> base_link), ``/robot_pose`` and the followed-path trail
   at 20 Hz, each new navigation plan on ``/plan`` (looked at 20 Hz), every scan on ``/scan``
-  (the lidar's 5 Hz), the robot's geoms on ``/robot/scene`` at 5 Hz, and at 1 Hz the global
+  (the lidar's rate), the robot's geoms and its footprint (the outline the navigation stack
+  checks, in ``base_link``) on ``/robot/scene`` at 5 Hz, and at 1 Hz the global
   costmap, ``/followed_path`` and the world scene (obstacles, spawned obstacles, named
   locations; republished so that a live client that joins late sees it).
-- Panda: the three ``/cartesian_impedance/*`` poses (TCP, set-point, filtered reference, in
-  ``panda/link0``) and ``/joint_states`` at 100 Hz, the scene (arm, table, cube) at 20 Hz,
-  and the transform world -> panda/link0 on ``/tf_static`` at 1 Hz: latched for live viewers
-  that join late, and never more than a second away for a viewer that opens the file anywhere.
+- an arm: the three ``/cartesian_impedance/*`` poses (TCP, set-point, filtered reference, in
+  the arm's base frame) and ``/joint_states`` at 100 Hz, the scene (arm, table, objects) at
+  20 Hz, and the transform world -> base frame on ``/tf_static`` at 1 Hz: latched for live
+  viewers that join late, and never more than a second away for a viewer that opens the file
+  anywhere.
 
 ``/tf`` is what a perfectly localised Nav2 robot publishes: odom -> base_link is the wheel
 odometry, drift included, and map -> odom corrects it (ground truth composed with the inverse
@@ -32,10 +34,9 @@ from scipy.spatial.transform import Rotation
 
 from baobab.missions.run.recording_topics import Topics
 from baobab.missions.run.rig import ArmRig, MobileRig
-from baobab.robots.turtlebot3.model import BURGER
 from baobab.sim.lidar import LaserScan
 from baobab.sim.recording import Recorder, Trail, Transform
-from baobab.sim.scene_primitives import GeomScene, location_entities
+from baobab.sim.scene_primitives import Entity, GeomScene, Outline, location_entities
 from baobab.sim.simulation import PeriodicHandle
 from baobab.sim.world import Pose2D
 
@@ -44,11 +45,14 @@ MOBILE_FAST_PERIOD = 0.05
 ROBOT_SCENE_PERIOD = 0.2
 """/robot/scene (s): 5 Hz."""
 SLOW_PERIOD = 1.0
-"""Costmap, followed path, world scene, the Panda's base transform (s): 1 Hz."""
+"""Costmap, followed path, world scene, the arm's base transform (s): 1 Hz."""
 ARM_STATE_PERIOD = 0.01
 """Impedance poses and joint states (s): 100 Hz."""
 ARM_SCENE_PERIOD = 0.05
-"""The Panda scene (s): 20 Hz."""
+"""The arm's scene (s): 20 Hz."""
+FOOTPRINT_HEIGHT = 0.005
+"""m above the floor the footprint's outline is drawn at."""
+FOOTPRINT_COLOUR = (0.95, 0.55, 0.10, 1.0)
 WORLD_SCENE_GROUPS = (1, 2)
 """Static and movable obstacles."""
 ROBOT_SCENE_GROUPS = (3,)
@@ -68,7 +72,7 @@ class Streams:
 
 
 class MobileStreams(Streams):
-    """Logs a TurtleBot3 run (see the module docstring).
+    """Logs a mobile robot's run (see the module docstring).
 
     Args:
         recorder: where the messages go.
@@ -86,6 +90,11 @@ class MobileStreams(Streams):
         self._world_scene = GeomScene(model, groups=WORLD_SCENE_GROUPS)
         self._robot_scene = GeomScene(model, groups=ROBOT_SCENE_GROUPS)
         self._locations = {name: rig.mission.locations[name].pose2d() for name in rig.locations}
+        footprint = rig.info.tuning.footprint  # Nav2's published_footprint: padded
+        outline = tuple((x, y, FOOTPRINT_HEIGHT) for x, y in footprint.outline)
+        self._footprint = Entity(
+            "footprint", "base_link", outlines=(Outline(outline, FOOTPRINT_COLOUR),)
+        )
         sim = rig.sim
         self._handles = [
             sim.every(MOBILE_FAST_PERIOD, self._fast, name="record pose"),
@@ -100,7 +109,7 @@ class MobileStreams(Streams):
         self.rig.robot.lidar.unsubscribe(self._scan)
 
     def _scan(self, scan: LaserScan) -> None:
-        self.recorder.log_scan(Topics.SCAN, scan, z=BURGER.lidar_height)
+        self.recorder.log_scan(Topics.SCAN, scan, z=self.rig.robot.facts.lidar.z)
 
     def _fast(self, t: float) -> None:
         base, recorder = self.base, self.recorder
@@ -124,7 +133,8 @@ class MobileStreams(Streams):
 
     def _robot(self, t: float) -> None:
         data = self.rig.sim.data
-        self.recorder.log_scene(Topics.ROBOT_SCENE, t, self._robot_scene.entities(data))
+        entities = [*self._robot_scene.entities(data), self._footprint]
+        self.recorder.log_scene(Topics.ROBOT_SCENE, t, entities)
 
     def _slow(self, t: float) -> None:
         recorder = self.recorder
@@ -145,24 +155,21 @@ class MobileStreams(Streams):
 
 
 class ArmStreams(Streams):
-    """Logs a Panda run (see the module docstring).
+    """Logs an arm's run (see the module docstring).
 
     Args:
         recorder: where the messages go.
-        rig: the arm rig (sim and arm server).
+        rig: the arm rig (sim, arm server and the runtime that names its frames and joints).
     """
 
     def __init__(self, recorder: Recorder, rig: ArmRig) -> None:
-        from baobab.robots.panda.model import ARM_JOINTS, BASE_BODY, FINGER_JOINTS
-
         super().__init__()
         self.recorder = recorder
         self.server = rig.server
         sim = rig.sim
         self._data = sim.data
-        prefix = self.server.prefix
-        self.base_frame = prefix + BASE_BODY
-        self.joint_names = [prefix + name for name in (*ARM_JOINTS, *FINGER_JOINTS)]
+        self.base_frame = rig.runtime.BASE_FRAME
+        self.joint_names = list(rig.runtime.JOINT_NAMES)
         self._joints = [sim.data.joint(name) for name in self.joint_names]
         self._scene = GeomScene(sim.model, frame_id="world")
         self._base = Transform(

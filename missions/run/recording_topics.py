@@ -1,7 +1,7 @@
 """The topics a run's recording uses, and the JSON schemas of its own messages.
 
 Names follow Nav2 and ROS where a topic exists there (``/tf``, ``/scan``, ``/plan``,
-``/global_costmap/costmap``, ``/joint_states``, the Franka impedance controller's
+``/global_costmap/costmap``, ``/joint_states``, the ROS Cartesian impedance controllers'
 ``/cartesian_impedance/*``); the rest are baobab's (the tree's status, task feedback, scenes).
 :class:`~baobab.sim.recording.Recorder` logs on whatever topic it is given.
 """
@@ -32,7 +32,7 @@ class Topics:
     DESIRED_POSE = "/cartesian_impedance/desired_pose"
     FILT_REF_POSE = "/cartesian_impedance/filt_ref_pose"
     ARM_SCENE = "/scene"
-    """The Panda scene: arm, table and cube."""
+    """An arm's scene: arm, table and objects."""
 
 
 TREE_STATUS_SCHEMA = JsonSchema(

@@ -4,9 +4,11 @@ A rig bundles the :class:`~baobab.sim.simulation.Simulation`, the
 :class:`~baobab.behaviours.ports.Capabilities` the compiled tree talks to, the run's metrics,
 where events put obstacles and teleop input, and what the trace and plot read from the robot.
 
-Imports are lazy on purpose: a mobile run never imports the Panda package (Pinocchio is slow
-to load), and the navigation stack (numba kernels) is imported only when the tree uses the
-``navigation`` capability.
+Imports are lazy on purpose: a mobile run never imports an arm's package (Pinocchio is slow to
+load), and the navigation stack (numba kernels) is imported only when the tree uses the
+``navigation`` capability. The robot is whatever the mission's registry entry (or robot file)
+describes: a mobile one is built from its facts, a fixed one by the runtime module its entry
+names.
 """
 
 from __future__ import annotations
@@ -25,8 +27,9 @@ from baobab.missions.run.event_targets import ObstacleSlots, TeleopChannel
 from baobab.missions.run.metrics import MetricRegistry, register_teleop_metrics
 from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
-from baobab.robots.turtlebot3.controller_tasks import BaseControllerServer
-from baobab.robots.turtlebot3.robot import TurtleBot3
+from baobab.robots.catalog import RobotInfo
+from baobab.robots.diff_drive.controller_tasks import BaseControllerServer
+from baobab.robots.diff_drive.robot import MobileRobot
 from baobab.sim.errors import BaobabError
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle
@@ -108,14 +111,16 @@ def mission_goals(mission: Mission) -> list[tuple[str, Pose]]:
 
 
 def build_navigation(
-    sim: Simulation, robot: TurtleBot3, world: World, teleop: TeleopChannel
+    sim: Simulation, robot: MobileRobot, info: RobotInfo, world: World, teleop: TeleopChannel
 ) -> tuple[NavigationServer, WorldServers]:
-    """The navigation server of a TurtleBot3, fed by teleop events, and the servers of the
-    world's route graph and datum (imported only now)."""
+    """The navigation server of the mobile robot ``info`` describes, with its settings, fed by
+    teleop events, and the servers of the world's route graph and datum (imported only now)."""
+    from baobab.nav.robot_params import navigation_params
     from baobab.nav.server import build_navigation as build_server
     from baobab.nav.world_servers import attach_world_servers
 
-    server = build_server(sim, robot.base, robot.lidar, world)
+    params = navigation_params(info)
+    server = build_server(sim, robot.base, robot.lidar, world, params=params)
     teleop.subscribe(lambda twist: server.teleop_command(*(twist or (0.0, 0.0))))
     return server, attach_world_servers(server, world)
 
@@ -190,17 +195,16 @@ class ClearCountingPort:
 
 
 class MobileRig:
-    """A TurtleBot3 in a 2D world with base controllers and, when needed, navigation."""
+    """A mobile robot in a 2D world with base controllers and, when needed, navigation."""
 
     def __init__(self, mission: Mission, seed: int) -> None:
-        from baobab.robots.turtlebot3.robot import build_turtlebot3_sim
-
         world = mission.world
         if world is None:
             raise BaobabError(f"mission '{mission.name}' has no world for a mobile robot")
         self.world = world
         self.mission = mission
-        self.sim, self.robot = build_turtlebot3_sim(
+        self.info = mission.robot
+        self.sim, self.robot = mission.robot.build_sim(
             world, mission.start, seed=seed, lidar_noise_std=mission.noise.lidar_std
         )
         self.controllers = BaseControllerServer(self.sim, self.robot.base, self.robot.lidar)
@@ -214,17 +218,17 @@ class MobileRig:
         sim = self.sim
         if uses_capability(mission, NAVIGATION):
             self.navigation, self.world_servers = build_navigation(
-                sim, self.robot, world, self.teleop
+                sim, self.robot, self.info, world, self.teleop
             )
             self.clear_counter = ClearCountingPort(self.navigation)
             port = self.clear_counter
             sim.every(PATH_SAMPLE_PERIOD, self._sample_path, name="plot paths")
         self.ros: MissionNodes | None = None
         if uses_ros(mission):
-            from baobab.nav.navigator_robot import simulated_turtlebot3
+            from baobab.nav.navigator_robot import simulated_robot
             from baobab.nav.ros.mission_nodes import MissionNodes
 
-            self.ros = MissionNodes(sim, mobile=simulated_turtlebot3(self.robot))
+            self.ros = MissionNodes(sim, mobile=simulated_robot(self.info, self.robot))
         self.capabilities = Capabilities(
             clock=lambda: sim.time,
             navigation=port,
@@ -321,9 +325,18 @@ class MobileRig:
             hit_points=list(bug2.hit_points) if bug2 else [],
             leave_points=list(bug2.leave_points) if bug2 else [],
             min_clearance_at=None if clearance_at is None else clearance_at[1:],
+            footprints=[self._footprint_at(*probe.start), self._footprint_at(*self._pose())],
         )
         self._navigation_layers(plot)
         return plot
+
+    def _pose(self) -> tuple[float, float, float]:
+        pose = self.robot.base.pose()
+        return pose.x, pose.y, pose.yaw
+
+    def _footprint_at(self, x: float, y: float, yaw: float) -> list[tuple[float, float]]:
+        """The footprint the navigation stack uses (padded), map frame (m), at a pose."""
+        return self.info.tuning.footprint.at(Pose2D(x=x, y=y, yaw=yaw))
 
     def _navigation_layers(self, plot: MobilePlot) -> None:
         if self.navigation is None:
@@ -334,38 +347,36 @@ class MobileRig:
 
 
 class ArmRig:
-    """The Panda on its table with the arm server (imported only now: Pinocchio)."""
+    """A fixed arm in its scene with its server, from the runtime module its registry entry
+    names (imported only now: an arm's kinematics library loads slowly)."""
 
     obstacles: ObstacleSlots | None = None
     teleop: TeleopChannel | None = None
 
     def __init__(self, mission: Mission, seed: int) -> None:
-        from baobab.missions.run.arm_port import PandaArmPort
-        from baobab.robots.panda.scene import PREFIX, build_panda_sim, place_target
-
+        self.runtime = runtime = mission.robot.arm_runtime()
         self.mission = mission
-        self.sim, self.server = build_panda_sim(seed=seed)
-        self.port = PandaArmPort(self.sim, self.server)
+        self.sim, self.server = runtime.build(seed)
+        self.port = runtime.arm_port(self.sim, self.server)
         sim = self.sim
         self.ros: MissionNodes | None = None
         if uses_ros(mission):
-            from baobab.nav.navigator_robot import simulated_panda
             from baobab.nav.ros.mission_nodes import MissionNodes
 
-            self.ros = MissionNodes(sim, arm=simulated_panda(sim, self.server))
+            self.ros = MissionNodes(sim, arm=runtime.simulated_arm(sim, self.server))
         self.capabilities = Capabilities(clock=lambda: sim.time, arm=self.port, ros_nodes=self.ros)
         self.objects = list(mission.robot.scene_objects)
         self.probe = ArmProbe(
             sim,
             lambda: self.server.tcp_pose().position,
             self.objects,
-            robot_prefix=PREFIX,
+            robot_prefix=runtime.PREFIX,
             # Counted at every step by the arm's compiled loop; Python samples the contacts
             # only for the names of what was touched.
             contact_period=ARM_CONTACT_NAME_PERIOD,
             contact_count=lambda: self.server.contact_steps,
         )
-        self.place_target = tuple(float(v) for v in place_target(sim))
+        self.place_target = tuple(float(v) for v in runtime.place_target(sim))
         self.metrics = MetricRegistry()
         self.metrics.add("sim_time", lambda: sim.time, unit="s", description="run length")
         self.probe.register(self.metrics, self.place_target)

@@ -6,6 +6,7 @@ Installed with baobab (entry point ``pytest11``), so ``pytest missions/`` just w
     pytest missions/ -n 2 --junitxml=r.xml  # pytest-xdist and JUnit reports work as usual
     pytest missions/ --baobab-seed 7        # run every mission with seed 7
     pytest missions/ --baobab-update-baseline   # (re)write missions/<stem>.baseline.json
+    pytest missions/ --baobab-plots all     # draw every run's plot.png (default: failed ones)
 
 Which files: ``*.yaml``/``*.yml`` files with a top-level ``mission:`` key and a top-level
 ``expect:`` key, found by a cheap text scan (world files, schemas and other YAML are never
@@ -17,7 +18,9 @@ Each item loads its mission at collection (a malformed one becomes an item that 
 setup with the located ``path:line:col: message``, and the other items still run), runs it
 in-process with :func:`~baobab.missions.run.runner.run_mission`, compares the baseline beside the
 mission when there is one, and writes its run folder under pytest's temporary directory (or
-``--baobab-runs DIR``). A failure prints the table of expectations, measured against
+``--baobab-runs DIR``). A run folder holds ``plot.png`` only when the scenario failed (drawing
+it costs more than a short scenario's simulation), unless ``--baobab-plots all`` asks for
+every one (``none``: for no one). A failure prints the table of expectations, measured against
 expected, the run folder's path and the command that replays the run. In a JUnit report
 (:mod:`~baobab.missions.testing.pytest_junit`) each mission is a testcase named by its folder
 and name,
@@ -47,6 +50,7 @@ if TYPE_CHECKING:
     from baobab.missions.language.loader import Mission
 
 INI_COLLECT = "baobab_missions"
+PLOTS_CHOICES = ("failed", "all", "none")
 SUFFIXES = (".yaml", ".yml")
 _MISSION_KEY = re.compile(rb"^mission[ \t]*:", re.MULTILINE)
 _EXPECT_KEY = re.compile(rb"^expect[ \t]*:", re.MULTILINE)
@@ -88,6 +92,12 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         default=None,
         metavar="DIR",
         help="write the run folders under DIR (default: pytest's temporary directory)",
+    )
+    group.addoption(
+        "--baobab-plots",
+        choices=PLOTS_CHOICES,
+        default="failed",
+        help="which run folders get a plot.png: failed (default), all or none",
     )
     parser.addini(
         INI_COLLECT,
@@ -168,6 +178,7 @@ class MissionItem(pytest.Item):
             seed=config.getoption("baobab_seed"),
             update_baseline=config.getoption("baobab_update_baseline"),
             folder=self.run_folder,
+            plots=config.getoption("baobab_plots"),
         )
         record = scenario.record
         error = f" {record.outcome.error_name} ({record.outcome.error_code})"

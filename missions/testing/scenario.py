@@ -102,9 +102,17 @@ def shown_path(path: Path) -> Path:
 
 
 def run_scenario(
-    mission: Mission, *, seed: int | None, update_baseline: bool, folder: Path
+    mission: Mission,
+    *,
+    seed: int | None,
+    update_baseline: bool,
+    folder: Path,
+    plots: str = "failed",
 ) -> ScenarioRun:
     """Run ``mission`` (with ``seed`` if given), handle its baseline, write ``folder``.
+
+    ``plots`` says when the folder gets its ``plot.png``: ``failed`` (the scenario did not
+    turn out as intended), ``all`` or ``none``.
 
     Raises:
         BaselineError: the baseline beside the mission cannot be read (before the run).
@@ -125,5 +133,7 @@ def run_scenario(
     else:
         status = "not written: the run did not turn out as intended"
     record.extra["baseline"] = {"file": str(path), "status": status}
-    write_run_folder(folder, record.result_object(folder), record.trace.text(), record.plot)
+    drawn = plots == "all" or (plots == "failed" and not record.intended)
+    plot = record.plot if drawn else None
+    write_run_folder(folder, record.result_object(folder), record.trace.text(), plot)
     return ScenarioRun(record, folder, path, status)

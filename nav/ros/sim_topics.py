@@ -1,6 +1,7 @@
 """The simulation on ROS topics, with the names, types, QoS and rates a ROS simulation uses.
 
-A mobile base (the TurtleBot3 Burger, as ``turtlebot3_gazebo`` runs it):
+A mobile base (as a differential-drive robot's Gazebo simulation runs it; the fixed frames
+are its facts', the scan rate its lidar's):
 
 =================  ==========================  ======  =====================================
 topic              type                        rate    what
@@ -13,7 +14,7 @@ topic              type                        rate    what
                                                        ``base_scan``, ``imu_link``
 ``/joint_states``  sensor_msgs/JointState      30 Hz   wheel angles (rad) and speeds
 ``/imu``           sensor_msgs/Imu             200 Hz  orientation, rates, specific force
-``/scan``          sensor_msgs/LaserScan       5 Hz    best effort, as Gazebo's ray sensor
+``/scan``          sensor_msgs/LaserScan       lidar   best effort, as Gazebo's ray sensor
 ``/clock``         rosgraph_msgs/Clock         10 Hz   as ``gazebo_ros_init`` publishes it
 =================  ==========================  ======  =====================================
 
@@ -21,11 +22,11 @@ topic              type                        rate    what
 (the simulation localises perfectly), as AMCL would publish it. A scan taken at a physics
 step is published after that step (stamped with the time it was taken).
 
-The Panda (the seed's Cartesian impedance controller): ``/cartesian_impedance/desired_pose``
+An arm (the seed's Cartesian impedance controller): ``/cartesian_impedance/desired_pose``
 (geometry_msgs/PoseStamped, in: the set-point the reference filter moves towards),
 ``/cartesian_impedance/current_pose`` and ``/cartesian_impedance/filt_ref_pose`` (out,
-100 Hz), ``/joint_states`` (100 Hz), ``/tf_static`` (``world`` -> ``panda_link0``) and
-``/clock``; poses are in ``panda_link0``.
+100 Hz), ``/joint_states`` (100 Hz), ``/tf_static`` (``world`` -> the arm's base frame) and
+``/clock``; poses are in the arm's base frame (its runtime names it).
 
 Every message is built only while its topic has a subscriber (or an ``--echo``/record tap).
 """
@@ -276,7 +277,7 @@ class _ImuReader:
 
 
 class ArmTopics:
-    """Puts the Panda's impedance controller on the seed's topics (module docstring)."""
+    """Puts an arm's impedance controller on the seed's topics (module docstring)."""
 
     def __init__(self, runtime: RosRuntime, arm: SimulatedArm) -> None:
         self._arm = arm

@@ -1,12 +1,13 @@
-"""The TurtleBot3 Burger: MuJoCo model, differential-drive base, and the tutorial controllers.
+"""The TurtleBot3: the Burger (its own MuJoCo body) and the Waffle (the generic one).
 
-- :mod:`.model`: the Burger's figures and body (MjSpec), :func:`attach_turtlebot3`.
-- :mod:`.robot`: :func:`build_turtlebot3_sim` (world + robot + running base and lidar).
-- :mod:`.base`: :class:`DiffDriveBase` (cmd_vel with limits, wheel odometry, ground truth).
-- :mod:`.go_to_goal`, :mod:`.bug2`, :mod:`.teleop`: the seed's §6, §7 and §5 controllers.
+- :mod:`.facts`: :data:`BURGER` and :data:`WAFFLE`, every figure with its source.
+- :mod:`.model`: the Burger's body as an MjSpec (:func:`turtlebot3_spec`,
+  :func:`attach_turtlebot3`).
+- :mod:`.burger`: :func:`build_turtlebot3_sim` (world + Burger + running base and lidar).
 
-The public names load on first use (PEP 562), so importing one light submodule does not
-load the others (MuJoCo models, controllers).
+Their registry entries are :mod:`baobab.robots.catalog`'s; everything that drives them is the
+differential-drive code of :mod:`baobab.robots.diff_drive`. The public names load on first use
+(PEP 562), so importing the facts does not load MuJoCo.
 """
 
 from __future__ import annotations
@@ -16,103 +17,29 @@ from typing import TYPE_CHECKING
 from baobab.sim.lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
-    from baobab.robots.turtlebot3.base import BASE_CONTROL_PERIOD, DiffDriveBase, Odometry
-    from baobab.robots.turtlebot3.bug2 import (
-        Bug2Controller,
-        Bug2Params,
-        dist_to_mline,
-        follow_left_wall,
-        min_range_in_sector,
-    )
-    from baobab.robots.turtlebot3.go_to_goal import (
-        GoToGoalController,
-        GoToGoalParams,
-        NavState,
-        angle_wrap,
-        go_to_goal_command,
-        goal_distance,
-    )
-    from baobab.robots.turtlebot3.model import (
-        BURGER,
-        DEFAULT_PREFIX,
-        BurgerFacts,
-        TurtleBot3Names,
-        attach_turtlebot3,
-        turtlebot3_spec,
-    )
-    from baobab.robots.turtlebot3.robot import TurtleBot3, build_turtlebot3_sim, start_turtlebot3
-    from baobab.robots.turtlebot3.teleop import (
-        LAYOUTS,
-        KeyboardTeleop,
-        KeyLayout,
-        Twist2D,
-        layout_named,
-        twist_from_keys,
-    )
+    from baobab.robots.turtlebot3.burger import build_turtlebot3_sim, start_turtlebot3
+    from baobab.robots.turtlebot3.facts import BURGER, WAFFLE
+    from baobab.robots.turtlebot3.model import DEFAULT_PREFIX, attach_turtlebot3, turtlebot3_spec
 
 _EXPORTS = {
-    "BASE_CONTROL_PERIOD": "baobab.robots.turtlebot3.base",
-    "BURGER": "baobab.robots.turtlebot3.model",
-    "Bug2Controller": "baobab.robots.turtlebot3.bug2",
-    "Bug2Params": "baobab.robots.turtlebot3.bug2",
-    "BurgerFacts": "baobab.robots.turtlebot3.model",
+    "BURGER": "baobab.robots.turtlebot3.facts",
     "DEFAULT_PREFIX": "baobab.robots.turtlebot3.model",
-    "DiffDriveBase": "baobab.robots.turtlebot3.base",
-    "GoToGoalController": "baobab.robots.turtlebot3.go_to_goal",
-    "GoToGoalParams": "baobab.robots.turtlebot3.go_to_goal",
-    "KeyLayout": "baobab.robots.turtlebot3.teleop",
-    "KeyboardTeleop": "baobab.robots.turtlebot3.teleop",
-    "LAYOUTS": "baobab.robots.turtlebot3.teleop",
-    "NavState": "baobab.robots.turtlebot3.go_to_goal",
-    "Odometry": "baobab.robots.turtlebot3.base",
-    "TurtleBot3": "baobab.robots.turtlebot3.robot",
-    "TurtleBot3Names": "baobab.robots.turtlebot3.model",
-    "Twist2D": "baobab.robots.turtlebot3.teleop",
-    "angle_wrap": "baobab.robots.turtlebot3.go_to_goal",
+    "WAFFLE": "baobab.robots.turtlebot3.facts",
     "attach_turtlebot3": "baobab.robots.turtlebot3.model",
-    "build_turtlebot3_sim": "baobab.robots.turtlebot3.robot",
-    "dist_to_mline": "baobab.robots.turtlebot3.bug2",
-    "follow_left_wall": "baobab.robots.turtlebot3.bug2",
-    "go_to_goal_command": "baobab.robots.turtlebot3.go_to_goal",
-    "goal_distance": "baobab.robots.turtlebot3.go_to_goal",
-    "layout_named": "baobab.robots.turtlebot3.teleop",
-    "min_range_in_sector": "baobab.robots.turtlebot3.bug2",
-    "start_turtlebot3": "baobab.robots.turtlebot3.robot",
+    "build_turtlebot3_sim": "baobab.robots.turtlebot3.burger",
+    "start_turtlebot3": "baobab.robots.turtlebot3.burger",
     "turtlebot3_spec": "baobab.robots.turtlebot3.model",
-    "twist_from_keys": "baobab.robots.turtlebot3.teleop",
 }
 """Public name -> the module defining it."""
 
 __all__ = [
-    "BASE_CONTROL_PERIOD",
     "BURGER",
     "DEFAULT_PREFIX",
-    "LAYOUTS",
-    "Bug2Controller",
-    "Bug2Params",
-    "BurgerFacts",
-    "DiffDriveBase",
-    "GoToGoalController",
-    "GoToGoalParams",
-    "KeyLayout",
-    "KeyboardTeleop",
-    "NavState",
-    "Odometry",
-    "TurtleBot3",
-    "TurtleBot3Names",
-    "Twist2D",
-    "angle_wrap",
+    "WAFFLE",
     "attach_turtlebot3",
     "build_turtlebot3_sim",
-    "dist_to_mline",
-    "follow_left_wall",
-    "go_to_goal_command",
-    "goal_distance",
-    "layout_named",
-    "min_range_in_sector",
     "start_turtlebot3",
     "turtlebot3_spec",
-    "twist_from_keys",
 ]
 
 

@@ -17,7 +17,7 @@ import enum
 import math
 from dataclasses import dataclass
 
-from baobab.robots.turtlebot3.base import DiffDriveBase, clamp
+from baobab.robots.diff_drive.base import DiffDriveBase, clamp
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.world import Pose2D
 

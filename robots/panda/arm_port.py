@@ -11,15 +11,16 @@ from collections.abc import Sequence
 
 import mujoco
 
-from baobab.behaviours.ports import CapabilityError
 from baobab.robots.panda.arm_server import ArmServer
+from baobab.robots.panda.errors import GripperCommandError, PandaSceneError
 from baobab.robots.panda.pose import Pose
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle
 
 
 class PandaArmPort:
-    """:class:`~baobab.behaviours.ports.ArmPort` for a Panda served by ``server`` in ``sim``."""
+    """:class:`~baobab.behaviours.ports.ArmPort` for a Panda served by ``server`` in ``sim``
+    (structurally: robots do not import the behaviours above them)."""
 
     def __init__(self, sim: Simulation, server: ArmServer) -> None:
         self.sim = sim
@@ -39,12 +40,12 @@ class PandaArmPort:
             return self.server.gripper("open")
         if command == "close":
             return self.server.gripper("close")
-        raise CapabilityError(f"gripper command must be 'open' or 'close', got {command!r}")
+        raise GripperCommandError(f"gripper command must be 'open' or 'close', got {command!r}")
 
     def object_position(self, name: str) -> tuple[float, float, float]:
         """World position (m) of the free body ``name`` (e.g. ``cube``)."""
         if mujoco.mj_name2id(self.sim.model, mujoco.mjtObj.mjOBJ_BODY, name) < 0:
-            raise CapabilityError(f"the scene has no object '{name}'")
+            raise PandaSceneError(f"the scene has no object '{name}'")
         x, y, z = (float(v) for v in self.sim.data.body(name).xpos)
         return x, y, z
 

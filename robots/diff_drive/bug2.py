@@ -31,8 +31,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from baobab.robots.turtlebot3.base import DiffDriveBase
-from baobab.robots.turtlebot3.go_to_goal import (
+from baobab.robots.diff_drive.base import DiffDriveBase
+from baobab.robots.diff_drive.go_to_goal import (
     GoToGoalController,
     GoToGoalParams,
     NavState,

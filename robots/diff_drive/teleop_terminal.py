@@ -37,7 +37,7 @@ from collections.abc import Iterator
 from types import FrameType, TracebackType
 from typing import Any
 
-from baobab.robots.turtlebot3.teleop import (
+from baobab.robots.diff_drive.teleop import (
     DEFAULT_ANGULAR_SPEED,
     DEFAULT_LINEAR_SPEED,
     KeyLayout,

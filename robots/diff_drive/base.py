@@ -16,15 +16,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from baobab.robots.turtlebot3.base_kernel import LOOP_WORDS, WORD, base_loops
-from baobab.robots.turtlebot3.clearance_bounds import ClearanceBounds
-from baobab.robots.turtlebot3.model import (
-    BURGER,
-    DEFAULT_PREFIX,
-    OBSTACLE_GROUPS,
-    BurgerFacts,
-    TurtleBot3Names,
-)
+from baobab.robots.diff_drive.base_kernel import LOOP_WORDS, WORD, base_loops
+from baobab.robots.diff_drive.clearance_bounds import ClearanceBounds
+from baobab.robots.diff_drive.facts import DiffDriveFacts
+from baobab.robots.diff_drive.names import OBSTACLE_GROUPS, DiffDriveNames
 from baobab.sim.builder import FLOOR_GROUP
 from baobab.sim.errors import SimulationError
 from baobab.sim.simulation import Simulation
@@ -54,10 +49,10 @@ def clamp(value: float, low: float, high: float) -> float:
 
 
 class DiffDriveBase:
-    """The TurtleBot3 base: a ``cmd_vel`` interface over the two wheel velocity actuators.
+    """A differential-drive base: a ``cmd_vel`` interface over the two wheel velocity actuators.
 
     Args:
-        sim: the simulation holding a Burger attached with ``prefix``.
+        sim: the simulation holding the robot attached with ``prefix``.
         prefix: name prefix of the robot's MuJoCo elements.
         facts: the robot's figures (speed and acceleration limits, wheel geometry).
         period: control period (s); a multiple of the physics step.
@@ -67,13 +62,13 @@ class DiffDriveBase:
         self,
         sim: Simulation,
         *,
-        prefix: str = DEFAULT_PREFIX,
-        facts: BurgerFacts = BURGER,
+        prefix: str,
+        facts: DiffDriveFacts,
         period: float = BASE_CONTROL_PERIOD,
     ) -> None:
         self._sim = sim
         self.facts = facts
-        self.names = TurtleBot3Names(prefix)
+        self.names = DiffDriveNames(prefix)
         self.period = period
         model, data = sim.model, sim.data
         self._root = data.joint(self.names.root_joint)
@@ -274,11 +269,12 @@ class DiffDriveBase:
         return sorted({model.geom(int(geom)).name for geom in other})
 
     def min_clearance(self, max_distance: float = 2.0) -> float:
-        """Distance (m) from the footprint circle to the nearest obstacle geom.
+        """Distance (m) from the footprint to the nearest obstacle geom.
 
         Obstacles are the static and movable geoms; the footprint is the upright cylinder of
-        radius ``facts.footprint_radius`` around ``base_link``. Negative when an obstacle
-        reaches inside the footprint; ``inf`` when nothing is within ``max_distance``.
+        the footprint's radius around ``base_link``, or the prism of its polygon. Negative when
+        an obstacle reaches inside the footprint; ``inf`` when nothing is within
+        ``max_distance``.
         """
         return self._clearance_bounds.min_clearance(max_distance)
 
@@ -295,7 +291,7 @@ class DiffDriveBase:
 
         Raises:
             SimulationError: if a period is not a positive multiple of the physics step, or
-                the model lacks the robot's contact sensors (:func:`.model.attach_turtlebot3`).
+                the model lacks the robot's contact sensors (:func:`.model.attach_robot`).
         """
         sim, model, loop = self._sim, self._sim.model, self._loop
         obstacles = [

@@ -1,6 +1,6 @@
-"""The TurtleBot3 base's 100 Hz step, compiled, inside MuJoCo's own step.
+"""A differential-drive base's 100 Hz step, compiled, inside MuJoCo's own step.
 
-:class:`~baobab.robots.turtlebot3.base.DiffDriveBase` keeps one :data:`BASE_LOOP` record per
+:class:`~baobab.robots.diff_drive.base.DiffDriveBase` keeps one :data:`BASE_LOOP` record per
 robot; the records of one simulation form one array, run by :func:`base_kernel` inside every
 ``mj_step`` (:mod:`baobab.sim.native_control`). At each of its control ticks a record's step
 ramps the commanded body velocity toward ``cmd_vel`` within the acceleration limits, writes
@@ -241,7 +241,7 @@ class BaseLoops:
                 model does not reserve the userdata of compiled control.
         """
         if self.size == MAX_ROBOTS:
-            raise SimulationError(f"a simulation holds at most {MAX_ROBOTS} TurtleBot3 bases")
+            raise SimulationError(f"a simulation holds at most {MAX_ROBOTS} mobile bases")
         loop = self.loops[self.size]
         self.size += 1
         self.loops["group_size"] = self.size

@@ -8,10 +8,11 @@ search gives, bit for bit. The whole search runs compiled, calling MuJoCo by sym
 
 A bound for any geom is the planar centre gap less both bounding radii. Upright boxes and
 cylinders, the usual obstacles, get a tighter one: the planar gap between their outline (a
-rectangle or a disc) and the disc that holds the footprint cylinder's shadow on the floor,
-less :data:`BOUND_MARGIN`. Both shapes project inside those outlines, so the bound holds; when
-the outlines overlap the gap is negative, as deep as the shift that would part them (a
-penetration is never deeper than that).
+rectangle or a disc) and the disc that holds the footprint's shadow on the floor (a
+cylinder's radius and tilt, a polygon prism's bounding sphere), less :data:`BOUND_MARGIN`.
+Both shapes project inside those outlines, so the bound holds; when the outlines overlap the
+gap is negative, as deep as the shift that would part them (a penetration is never deeper than
+that).
 
 Compiled because the metrics ask for the clearance 20 times a simulated second: from Python
 the bounds would be a dozen numpy passes and each exact distance a call through the bindings;
@@ -47,7 +48,7 @@ def clearance_bounds(
     """Lower bounds (m) of the distances from the ``footprint`` cylinder to ``geoms``.
 
     Args:
-        footprint: the footprint cylinder's geom id.
+        footprint: the footprint geom's id (a cylinder, or a polygon's prism).
         geoms: obstacle geom ids (n,).
         geom: the model's and data's :data:`~baobab.sim.mujoco_native.GEOM_ARRAYS` record.
         bounds: out (n,).
@@ -57,9 +58,12 @@ def clearance_bounds(
     geom_rbound, geom_type = geometry.geom_rbound, geometry.geom_type
     cx, cy = geom_xpos[footprint, 0], geom_xpos[footprint, 1]
     axis = geom_xmat[footprint]
-    # The footprint's shadow on the floor lies in a disc: radius plus the tilted axis' reach.
-    shadow = geom_size[footprint, 0] + geom_size[footprint, 1] * math.hypot(axis[2], axis[5])
     own_radius = geom_rbound[footprint]
+    if geom_type[footprint] == _CYLINDER:
+        # The footprint's shadow on the floor lies in a disc: radius plus the tilted axis' reach.
+        shadow = geom_size[footprint, 0] + geom_size[footprint, 1] * math.hypot(axis[2], axis[5])
+    else:  # a polygon's prism: its bounding sphere's shadow
+        shadow = own_radius
     for k in range(geoms.shape[0]):
         geom = geoms[k]
         gx, gy = cx - geom_xpos[geom, 0], cy - geom_xpos[geom, 1]

@@ -1,6 +1,6 @@
 """Goal-style tasks over the tutorial controllers: go-to-goal and Bug2 as :class:`TaskHandle`\\ s.
 
-:class:`BaseControllerServer` is the ``base_controllers`` capability of a TurtleBot3: a goal
+:class:`BaseControllerServer` is the ``base_controllers`` capability of a mobile robot: a goal
 starts the matching controller and returns a handle at once; a monitor callback (20 Hz, sim
 time) ends the task when the controller reports the goal reached, or fails it when the robot
 has not got closer to the goal for ``progress_timeout`` seconds of sim time (stuck against an
@@ -15,10 +15,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from baobab.robots.turtlebot3.base import DiffDriveBase
-from baobab.robots.turtlebot3.bug2 import Bug2Controller, Bug2Params
-from baobab.robots.turtlebot3.controller_errors import BaseControllerError
-from baobab.robots.turtlebot3.go_to_goal import (
+from baobab.robots.diff_drive.base import DiffDriveBase
+from baobab.robots.diff_drive.bug2 import Bug2Controller, Bug2Params
+from baobab.robots.diff_drive.controller_errors import BaseControllerError
+from baobab.robots.diff_drive.go_to_goal import (
     GoToGoalController,
     GoToGoalParams,
     goal_distance,
