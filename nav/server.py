@@ -288,18 +288,15 @@ class NavigationServer:
         return self.tasks.submit("wait", lambda: Wait(self.behavior_context, duration), None)
 
     def follow_route(self, start: int | Pose2D | None, goal: int | Pose2D) -> TaskHandle:
-        """Drive the route graph from ``start`` to ``goal`` (:meth:`RouteRequest.between`);
-        ``GoalRejectedError`` when the world has no route graph."""
+        """Drive the route graph from ``start`` to ``goal`` (:meth:`RouteRequest.between`)."""
         return self._world_action("follow_route", "route graph", RouteRequest.between(start, goal))
 
     def follow_gps_waypoints(self, waypoints: Sequence[GeoWaypoint]) -> TaskHandle:
-        """Follow geographic waypoints in turn, through the world's datum (FollowGPSWaypoints);
-        ``GoalRejectedError`` when the world has no datum."""
+        """Follow geographic waypoints in turn through the world's datum (FollowGPSWaypoints)."""
         return self._world_action("follow_gps_waypoints", "datum", GpsGoal(list(waypoints)))
 
     def _world_action(self, name: str, needs: str, goal: Any) -> TaskHandle:
-        server = self.action_servers.get(name)
-        if server is None:
+        if (server := self.action_servers.get(name)) is None:
             raise GoalRejectedError(f"'{name}' needs a world with a {needs}; this one has none")
         return server.send_goal(goal)
 
