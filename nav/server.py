@@ -6,21 +6,17 @@ smoother, the Regulated Pure Pursuit controller with its goal and progress check
 recovery behaviours, and at most one running task. Every task method returns a
 :class:`~baobab.sim.tasks.TaskHandle` at once; the work happens inside sim callbacks:
 
-- local costmap update 5 Hz, global costmap update 1 Hz (each takes the latest scan, Nav2's
-  ``observation_persistence`` 0);
-- a costmap clear (the tree's ClearEntireCostmap recoveries, ``clear_costmaps``) resets the
-  obstacle layers and marks the latest scan again at once. Nav2's planner and controller wait
-  after a clear until the costmap is current again (``waitForCostmap``), and its next update
-  marks the latest observation again, so neither ever plans or drives on a costmap that has
-  forgotten what the lidar sees; a clear forgets only what it no longer sees;
+- local costmap update 5 Hz, global 1 Hz (the latest scan, :mod:`baobab.nav.costmap_updates`);
+- a costmap clear (ClearEntireCostmap, ``clear_costmaps``) resets the obstacle layers and marks
+  the latest scan again at once, as Nav2's ``waitForCostmap`` and next update make it: a clear
+  forgets only what the lidar no longer sees;
 - the active task's tick at the controller rate (20 Hz; behaviours cycle at 10 Hz).
 
-Goals while a task runs are preempted, or replace the running task, as Nav2's action servers
-do (:mod:`baobab.nav.task_slot`); ``cancel()`` (or the handle's) halts the task and commands
-zero velocity at once. Scans reach the costmaps as :mod:`baobab.nav.costmap_updates` says.
+Goals while a task runs preempt or replace it, as Nav2's action servers do
+(:mod:`baobab.nav.task_slot`); ``cancel()`` halts the task and commands zero velocity at once.
 
-The server satisfies ``baobab.behaviours.ports.NavigationPort`` structurally; ``nav`` does
-not import ``behaviours`` (dependencies point the other way).
+The server satisfies ``baobab.behaviours.ports.NavigationPort`` structurally (routes and GPS
+waypoints through :class:`~baobab.nav.world_actions.WorldActions`).
 """
 
 from __future__ import annotations
@@ -46,22 +42,21 @@ from baobab.nav.behaviors import (
 )
 from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import KeepoutParams, keepout_filter, speed_filter
 from baobab.nav.costmap_updates import CostmapUpdates
-from baobab.nav.errors import GoalRejectedError, NavigationError, SmoothPathError
+from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
-from baobab.nav.gps_goal import GpsGoal
 from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
 from baobab.nav.layers import StaticLayer
 from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
 from baobab.nav.path import Path
 from baobab.nav.planner import GlobalPlanner, PlannerParams
-from baobab.nav.route_requests import RouteRequest
 from baobab.nav.smoother import SimpleSmoother
 from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
 from baobab.nav.waypoints import WaypointFollower
-from baobab.sim.geodesy import GeoWaypoint
+from baobab.nav.world_actions import WorldActions
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
@@ -83,9 +78,10 @@ class NavigationParams:
     behaviors: BehaviorParams = field(default_factory=BehaviorParams)
     navigator: NavigatorParams = field(default_factory=NavigatorParams)
     waypoint_loop_rate: float = 20.0
+    keepout: KeepoutParams = field(default_factory=KeepoutParams)
 
 
-class NavigationServer:
+class NavigationServer(WorldActions):
     """Nav2-style navigation for one mobile base in a simulation.
 
     Args:
@@ -111,16 +107,28 @@ class NavigationServer:
         self.sim = sim
         self.base = base
         self.world = world
-        static = StaticLayer(world, p.global_costmap.resolution)
+        static = StaticLayer(world, p.global_costmap.resolution, params=p.global_costmap.static)
         local_static = (
             static
             if p.local_costmap.resolution == p.global_costmap.resolution
-            else StaticLayer(world, p.local_costmap.resolution)
+            and p.local_costmap.static == p.global_costmap.static
+            else StaticLayer(world, p.local_costmap.resolution, params=p.local_costmap.static)
         )
-        self.global_layers = LayeredCostmap.global_costmap(world, p.global_costmap, static)
+        self.global_layers = LayeredCostmap.global_costmap(
+            world,
+            p.global_costmap,
+            static,
+            keepout_filter(world, static, p.global_costmap.inflation, p.keepout),
+        )
         self.local_layers = LayeredCostmap.local_costmap(
-            world, base.pose(), p.local_costmap, p.local_costmap_size, local_static
+            world,
+            base.pose(),
+            p.local_costmap,
+            p.local_costmap_size,
+            local_static,
+            keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout),
         )
+        self.speed_filter = speed_filter(world)
         self.planner = GlobalPlanner(p.planner, p.smoother)
         self.through_poses = ThroughPosesPlanner(self.planner)
         self.smoother = p.smoother
@@ -287,19 +295,6 @@ class NavigationServer:
         """Nav2's Wait behaviour: ``duration`` s of sim time."""
         return self.tasks.submit("wait", lambda: Wait(self.behavior_context, duration), None)
 
-    def follow_route(self, start: int | Pose2D | None, goal: int | Pose2D) -> TaskHandle:
-        """Drive the route graph from ``start`` to ``goal`` (:meth:`RouteRequest.between`)."""
-        return self._world_action("follow_route", "route graph", RouteRequest.between(start, goal))
-
-    def follow_gps_waypoints(self, waypoints: Sequence[GeoWaypoint]) -> TaskHandle:
-        """Follow geographic waypoints in turn through the world's datum (FollowGPSWaypoints)."""
-        return self._world_action("follow_gps_waypoints", "datum", GpsGoal(list(waypoints)))
-
-    def _world_action(self, name: str, needs: str, goal: Any) -> TaskHandle:
-        if (server := self.action_servers.get(name)) is None:
-            raise GoalRejectedError(f"'{name}' needs a world with a {needs}; this one has none")
-        return server.send_goal(goal)
-
     def assisted_teleop(self, time_allowance: float = 30.0) -> TaskHandle:
         """Drive by :meth:`teleop_command` through the collision projection.
 
@@ -450,6 +445,11 @@ class NavigationServer:
 
     def _update_local(self, _now: float) -> None:
         self.costmap_updates.update_local()
+        if self.speed_filter is not None:
+            pose = self.base.pose()
+            limit = self.speed_filter.update(pose.x, pose.y)
+            if limit is not None:
+                self.follower.set_speed_limit(limit)
 
     def _update_global(self, _now: float) -> None:
         self.costmap_updates.update_global()

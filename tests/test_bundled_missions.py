@@ -32,6 +32,7 @@ def test_the_expected_missions_are_bundled() -> None:
         "town_nav_to_pose",
         "town_route",
         "farm_gps_patrol",
+        "office_patrol",
     }
 
 
