@@ -124,6 +124,21 @@ def mission_figures() -> list[Figure]:
     return figures
 
 
+def get_path_figures() -> list[Figure]:
+    """Issue 28: ``BasicNavigator.getPath`` for the 16.2 m cafe query, median (ms)."""
+    report = _script_report("bench_get_path.py", quiet=True)
+    return [
+        Figure(
+            f"getPath cafe kitchen -> table_3 ({report['path_length_m']:.1f} m), median",
+            report["median_ms"]["getPath"],
+            "ms",
+            2.0,
+            False,
+            "python bench/bench_get_path.py",
+        )
+    ]
+
+
 def robot_figures() -> list[Figure]:
     """The real-time factor of the same mission (:data:`ROBOT_MISSION`) on each mobile robot,
     and its ratio to the default robot's (both measured in this run)."""
@@ -602,6 +617,7 @@ SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "robots": robot_figures,
     "suite": suite_figures,
     "planner": planner_figures,
+    "getpath": get_path_figures,
     "startup": startup_figures,
     "arm": arm_figures,
     "maps": map_figures,

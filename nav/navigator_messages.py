@@ -19,6 +19,7 @@ from baobab.nav import msgs
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.errors import GoalRejectedError
 from baobab.nav.path import Path
+from baobab.nav.rosmsg import defer_field, deferred_source
 from baobab.sim.world import Pose2D
 
 MAP_FRAME = "map"
@@ -43,6 +44,14 @@ def goal_pose(pose: msgs.PoseStamped, what: str = "goal") -> Pose2D:
         GoalRejectedError: a frame other than ``map``, a non-finite position or a zero or
             non-finite quaternion.
     """
+    _check_map_frame(pose, what)
+    try:
+        return msgs.to_pose2d(pose)
+    except msgs.MessageValueError as exc:
+        raise GoalRejectedError(f"{what} is invalid: {exc}") from None
+
+
+def _check_map_frame(pose: msgs.PoseStamped, what: str) -> None:
     if not isinstance(pose, msgs.PoseStamped):
         raise TypeError(f"{what} must be a geometry_msgs PoseStamped, not {type(pose).__name__}")
     frame = pose.header.frame_id
@@ -51,10 +60,6 @@ def goal_pose(pose: msgs.PoseStamped, what: str = "goal") -> Pose2D:
             f"{what} is in frame '{frame}', which cannot be transformed: goals must be in "
             f"'{MAP_FRAME}'"
         )
-    try:
-        return msgs.to_pose2d(pose)
-    except msgs.MessageValueError as exc:
-        raise GoalRejectedError(f"{what} is invalid: {exc}") from None
 
 
 def known_plugin(parameter: str, value: str, code: IntEnum | None) -> None:
@@ -84,14 +89,18 @@ def goal_poses(poses: Iterable[msgs.PoseStamped] | msgs.Goals) -> list[Pose2D]:
 
 
 def path_message(path: Path, stamp: msgs.TimeMsg) -> msgs.Path:
-    """The ``nav_msgs/Path`` of a planner path, every pose stamped ``stamp``."""
-    return msgs.Path(
-        header=msgs.Header(stamp=_copy(stamp), frame_id=path.frame_id),
-        poses=[
-            msgs.pose_stamped(x, y, yaw, frame_id=path.frame_id, stamp=stamp)
-            for x, y, yaw in path.poses.tolist()
-        ],
+    """The ``nav_msgs/Path`` of a planner path, every pose stamped ``stamp``.
+
+    The pose messages are made on the first read of ``poses``: a path handed straight on to
+    ``followPath`` or ``smoothPath`` is never converted (:func:`path_from_message` takes the
+    planner path back).
+    """
+    message = msgs.Path(header=msgs.Header(stamp=_copy(stamp), frame_id=path.frame_id))
+    stamp = _copy(stamp)
+    defer_field(
+        message, "poses", lambda: msgs.stamped_poses(path.poses, path.frame_id, stamp), path
     )
+    return message
 
 
 def path_from_message(path: msgs.Path | Path) -> Path:
@@ -105,8 +114,23 @@ def path_from_message(path: msgs.Path | Path) -> Path:
         return path
     if not isinstance(path, msgs.Path):
         raise TypeError(f"path must be a nav_msgs Path, not {type(path).__name__}")
-    poses = [goal_pose(pose, f"path pose {index}") for index, pose in enumerate(path.poses)]
-    return Path(np.array([[p.x, p.y, p.yaw] for p in poses], dtype=float).reshape(-1, 3))
+    unread = deferred_source(path, "poses")
+    if isinstance(unread, Path):
+        return unread  # poses never read, so never changed: the planner path they stand for
+    rows = []
+    for index, pose in enumerate(path.poses):
+        _check_map_frame(pose, f"path pose {index}")
+        position, orientation = pose.pose.position, pose.pose.orientation
+        rows.append(
+            (position.x, position.y, orientation.x, orientation.y, orientation.z, orientation.w)
+        )
+    table = np.array(rows, dtype=float).reshape(-1, 6)
+    quaternions = table[:, 2:]
+    invalid = ~np.isfinite(table).all(axis=1) | (np.linalg.norm(quaternions, axis=1) < 1e-9)
+    if invalid.any():
+        first = int(np.argmax(invalid))
+        goal_pose(path.poses[first], f"path pose {first}")  # raises, saying what is wrong
+    return Path(np.column_stack([table[:, :2], msgs.yaws_from_quaternions(quaternions)]))
 
 
 def costmap_message(costmap: Costmap2D, stamp: msgs.TimeMsg, layer: str) -> msgs.Costmap:

@@ -14,6 +14,11 @@ the generated code does, raising ``AssertionError`` with rclpy's wording:
 
 The constructor takes keyword arguments only and refuses unknown ones. Messages compare by
 value, print as ``geometry_msgs.msg.Point(x=0.0, y=0.0, z=0.0)`` and copy with :mod:`copy`.
+
+A field may be *deferred* (:func:`defer_field`): it holds a recipe, built and checked on its
+first read, so a large value nobody reads (the poses of a planned path) is never made; a copy
+of the message shares the recipe, and :func:`deferred_source` says what the recipe is made from
+while it has not been built.
 """
 
 from __future__ import annotations
@@ -21,7 +26,7 @@ from __future__ import annotations
 import math
 from array import array
 from collections.abc import Callable, Sequence, Set
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Self
 
 import numpy as np
 
@@ -209,11 +214,46 @@ def _constant(value: Any) -> Callable[[], Any]:
     return lambda: value
 
 
+class Deferred:
+    """A field value made on the field's first read: ``build()``, from ``source``.
+
+    ``build`` must make a new value on each call from ``source`` alone (which must not change),
+    so that copies of a message may share the recipe.
+    """
+
+    __slots__ = ("build", "source")
+
+    def __init__(self, build: Callable[[], Any], source: Any) -> None:
+        self.build = build
+        self.source = source
+
+
+def defer_field(message: Message, field: str, build: Callable[[], Any], source: Any) -> None:
+    """Let ``message.field`` be ``build()``, made and checked when it is first read.
+
+    Raises:
+        AttributeError: ``message`` has no such field.
+    """
+    if field not in message._factories:
+        raise AttributeError(f"{type(message).__name__} has no field {field!r}")
+    object.__setattr__(message, f"_{field}", Deferred(build, source))
+
+
+def deferred_source(message: Message, field: str) -> Any | None:
+    """What ``message.field`` will be built from, or None once it is built or set."""
+    value = object.__getattribute__(message, f"_{field}")
+    return value.source if type(value) is Deferred else None
+
+
 def _field_property(name: str, check: Check) -> property:
     slot = f"_{name}"
 
     def getter(self: Message) -> Any:
-        return getattr(self, slot)
+        value = getattr(self, slot)
+        if type(value) is Deferred:
+            value = check(name, value.build())
+            object.__setattr__(self, slot, value)
+        return value
 
     def setter(self: Message, value: Any) -> None:
         object.__setattr__(self, slot, check(name, value))
@@ -255,14 +295,32 @@ class Message(metaclass=MessageMeta):
 
     def __init__(self, **kwargs: Any) -> None:
         factories = self._factories
-        unknown = sorted(key for key in kwargs if key not in factories)
-        if unknown:
+        if not kwargs.keys() <= factories.keys():
+            unknown = sorted(kwargs.keys() - factories.keys())
             _fail(f"Invalid arguments passed to constructor: {', '.join(unknown)}")
         for field, factory in factories.items():
             if field in kwargs:
                 setattr(self, field, kwargs[field])
             else:
                 object.__setattr__(self, f"_{field}", factory())
+
+    @classmethod
+    def unchecked(cls, **fields: Any) -> Self:
+        """A message of every field in ``fields``, each already a value of its field's type.
+
+        The setters' checks are skipped: for code that builds many messages from values it
+        made itself (a path's poses).
+
+        Raises:
+            TypeError: ``fields`` does not name every field of the message, and no other.
+        """
+        if fields.keys() != cls._factories.keys():
+            wanted = list(cls._factories)
+            raise TypeError(f"{cls.__name__}.unchecked needs exactly the fields {wanted}")
+        message = object.__new__(cls)
+        for field, value in fields.items():
+            object.__setattr__(message, f"_{field}", value)
+        return message
 
     @classmethod
     def get_fields_and_field_types(cls) -> dict[str, str]:
@@ -292,7 +350,8 @@ class Message(metaclass=MessageMeta):
         """A copy sharing nothing mutable with this message (fields are already checked)."""
         new = object.__new__(type(self))
         for field in self._factories:
-            object.__setattr__(new, f"_{field}", _copied(getattr(self, field)))
+            slot = f"_{field}"
+            object.__setattr__(new, slot, _copied(object.__getattribute__(self, slot)))
         return new
 
     def __getstate__(self) -> dict[str, Any]:
@@ -304,6 +363,8 @@ class Message(metaclass=MessageMeta):
 
 
 def _copied(value: Any) -> Any:
+    if type(value) is Deferred:
+        return value  # made anew from its unchanging source on each read
     if isinstance(value, Message):
         return value.__deepcopy__({})
     if isinstance(value, list):

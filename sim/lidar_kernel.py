@@ -97,6 +97,12 @@ def _culled_like_mujoco(geom: int, geometry: GeomArrays) -> bool:  # pragma: no 
     both set when the model is compiled. A geom resized at run time without them (obstacle
     slots bring theirs along) can outgrow them; ``mj_multiRay`` then misses part of it, and
     so must the scanner.
+
+    The body's bounding sphere holds the geom when it holds the geom's bounding sphere with
+    room to spare, or when it is centred on the geom, bit for bit, and is no smaller than the
+    sphere ``mju_rayGeom`` itself tests first (:func:`_own_sphere_squared`): the one geom of
+    an obstacle slot. Then every beam that hits the geom has passed the same test, on the same
+    numbers, as the body's, and the body's culling drops no hit.
     """
     geom_xpos, geom_size, geom_type = geometry.geom_xpos, geometry.geom_size, geometry.geom_type
     geom_aabb, xipos, bvh_aabb = geometry.geom_aabb, geometry.xipos, geometry.bvh_aabb
@@ -116,11 +122,26 @@ def _culled_like_mujoco(geom: int, geometry: GeomArrays) -> bool:  # pragma: no 
     if node < 0:
         return True
     root = bvh_aabb[node]
-    dx = geom_xpos[geom, 0] - (root[0] + xipos[body, 0])
-    dy = geom_xpos[geom, 1] - (root[1] + xipos[body, 1])
-    dz = geom_xpos[geom, 2] - (root[2] + xipos[body, 2])
-    radius = math.sqrt(root[3] * root[3] + root[4] * root[4] + root[5] * root[5])
-    return math.sqrt(dx * dx + dy * dy + dz * dz) + geometry.geom_rbound[geom] <= radius - _SLACK
+    # As mj_multiRay computes the body's sphere: centre root + xipos, squared radius |half|^2.
+    cx, cy, cz = root[0] + xipos[body, 0], root[1] + xipos[body, 1], root[2] + xipos[body, 2]
+    radius_squared = root[3] * root[3] + root[4] * root[4] + root[5] * root[5]
+    gx, gy, gz = geom_xpos[geom, 0], geom_xpos[geom, 1], geom_xpos[geom, 2]
+    if cx == gx and cy == gy and cz == gz:
+        return radius_squared >= _own_sphere_squared(kind, size)
+    dx, dy, dz = gx - cx, gy - cy, gz - cz
+    return (
+        math.sqrt(dx * dx + dy * dy + dz * dz) + geometry.geom_rbound[geom]
+        <= math.sqrt(radius_squared) - _SLACK
+    )
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _own_sphere_squared(kind: int, size: np.ndarray) -> float:  # pragma: no cover - compiled
+    """Squared radius (m^2) of the bounding sphere ``mju_rayGeom`` tests before a box or a
+    cylinder, summed in the order MuJoCo sums it."""
+    if kind == _BOX:
+        return size[0] * size[0] + size[1] * size[1] + size[2] * size[2]
+    return size[0] * size[0] + size[1] * size[1]
 
 
 @numba.njit(cache=True, nogil=True, inline="always")

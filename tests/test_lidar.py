@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from baobab.missions.run.event_targets import ObstacleSlots
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim import Simulation
 from baobab.sim.builder import world_spec
@@ -171,12 +172,22 @@ def _multi_ray_ranges(lidar: Lidar) -> tuple[np.ndarray, np.ndarray]:
     return distances, geom_ids
 
 
+def _no_fallback(lidar: Lidar, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Make the scanner fail if it falls back to mj_multiRay: the compiled caster must cast."""
+
+    def refuse() -> None:
+        raise AssertionError("the scanner fell back to mj_multiRay")
+
+    monkeypatch.setattr(lidar, "_multi_ray", refuse)
+
+
 @pytest.mark.parametrize("world", ["cafe", "walls", "farm"])
-def test_compiled_caster_equals_mj_multi_ray(world: str) -> None:
+def test_compiled_caster_equals_mj_multi_ray(world: str, monkeypatch: pytest.MonkeyPatch) -> None:
     # The caster culls (beam, geom) pairs itself: at random poses, some tipped so that beams
     # meet the floor, with the movable boxes set down at a slant next to the robot, every
-    # range must be bit for bit what mj_multiRay gives.
+    # range must be bit for bit what mj_multiRay gives, and the caster casts every scan.
     sim, robot = build_turtlebot3_sim(world)
+    _no_fallback(robot.lidar, monkeypatch)
     model, data = sim.model, sim.data
     rng = np.random.default_rng(11)
     low = model.stat.center - 0.5 * model.stat.extent
@@ -230,3 +241,32 @@ def test_an_obstacle_resized_at_run_time_reads_as_mj_multi_ray_sees_it() -> None
     expected, geom_ids = _multi_ray_ranges(robot.lidar)
     np.testing.assert_array_equal(scan.ranges, expected)
     assert np.count_nonzero(geom_ids == geom.id) > 0
+
+
+def test_spawned_obstacles_are_cast_by_the_compiled_caster(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Obstacle slots resized by spawn events (with the culling volumes MuJoCo compiles for
+    # their size) are whole to the compiled caster: no fallback to mj_multiRay, bit for bit
+    # its ranges, at random robot poses among boxes of random sizes and headings.
+    sim, robot = build_turtlebot3_sim("walls", Pose2D(x=1.0, y=1.0))
+    _no_fallback(robot.lidar, monkeypatch)
+    model, data = sim.model, sim.data
+    slots = ObstacleSlots(sim)
+    rng = np.random.default_rng(5)
+    names = [f"crate_{k}" for k in range(4)]
+    for k, name in enumerate(names):
+        size = rng.uniform([0.1, 0.1, 0.1], [1.5, 1.5, 0.6])
+        slots.spawn(name, 1.0 + 0.8 * k, 1.5, rng.uniform(-math.pi, math.pi), size)
+    slot_geoms = {model.geom(slots.placed[name].slot).id for name in names}
+    root = data.joint(robot.names.root_joint)
+    seen = 0
+    for _ in range(40):
+        for name in names:
+            slots.move(name, *rng.uniform([0.0, 0.0], [3.0, 3.0]), rng.uniform(-4.0, 4.0))
+        root.qpos[:2] = rng.uniform([0.0, 0.0], [3.0, 3.0])
+        root.qpos[3:7] = [math.cos(0.3), 0.0, 0.0, math.sin(0.3)]
+        mujoco.mj_forward(model, data)
+        scan = robot.lidar.scan()
+        expected, geom_ids = _multi_ray_ranges(robot.lidar)
+        np.testing.assert_array_equal(scan.ranges, expected)
+        seen += int(np.count_nonzero(np.isin(geom_ids, list(slot_geoms)) & np.isfinite(expected)))
+    assert seen > 0
