@@ -6,17 +6,21 @@ smoother, the Regulated Pure Pursuit controller with its goal and progress check
 recovery behaviours, and at most one running task. Every task method returns a
 :class:`~baobab.sim.tasks.TaskHandle` at once; the work happens inside sim callbacks:
 
-- local costmap update 5 Hz, global 1 Hz (the latest scan, :mod:`baobab.nav.costmap_updates`);
-- a costmap clear (ClearEntireCostmap, ``clear_costmaps``) resets the obstacle layers and marks
-  the latest scan again at once, as Nav2's ``waitForCostmap`` and next update make it: a clear
-  forgets only what the lidar no longer sees;
+- local costmap update 5 Hz, global costmap update 1 Hz (each takes the latest scan, Nav2's
+  ``observation_persistence`` 0);
+- a costmap clear (the tree's ClearEntireCostmap recoveries, ``clear_costmaps``) resets the
+  obstacle layers and marks the latest scan again at once. Nav2's planner and controller wait
+  after a clear until the costmap is current again (``waitForCostmap``), and its next update
+  marks the latest observation again, so neither ever plans or drives on a costmap that has
+  forgotten what the lidar sees; a clear forgets only what it no longer sees;
 - the active task's tick at the controller rate (20 Hz; behaviours cycle at 10 Hz).
 
-Goals while a task runs preempt or replace it, as Nav2's action servers do
-(:mod:`baobab.nav.task_slot`); ``cancel()`` halts the task and commands zero velocity at once.
+Goals while a task runs are preempted, or replace the running task, as Nav2's action servers
+do (:mod:`baobab.nav.task_slot`); ``cancel()`` (or the handle's) halts the task and commands
+zero velocity at once. Scans reach the costmaps as :mod:`baobab.nav.costmap_updates` says.
 
-The server satisfies ``baobab.behaviours.ports.NavigationPort`` structurally (routes and GPS
-waypoints through :class:`~baobab.nav.world_actions.WorldActions`).
+The server satisfies ``baobab.behaviours.ports.NavigationPort`` structurally; ``nav`` does
+not import ``behaviours`` (dependencies point the other way).
 """
 
 from __future__ import annotations
