@@ -16,9 +16,11 @@ from baobab.behaviours import (
     control_nodes,
     dock_nodes,
     follow_nodes,
+    gps_nodes,
     navigation_nodes,
     progress_nodes,
     ros_nodes,
+    route_nodes,
 )
 from baobab.behaviours.registry import Registry
 
@@ -29,6 +31,8 @@ NODE_MODULES: tuple[ModuleType, ...] = (
     dock_nodes,
     follow_nodes,
     collision_monitor_nodes,
+    route_nodes,
+    gps_nodes,
     progress_nodes,
     arm_nodes,
     ros_nodes,

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from baobab.robots.catalog import (
     ARM,
@@ -26,6 +26,9 @@ from baobab.robots.catalog import (
 from baobab.sim.errors import BaobabError
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D
+
+if TYPE_CHECKING:
+    from baobab.sim.geodesy import GeoWaypoint
 
 __all__ = [
     "ARM",
@@ -110,6 +113,15 @@ class NavigationPort(Protocol):
     def follow_object(self, topic: str, frame: str, max_duration: float) -> TaskHandle:
         """Keep Nav2's desired distance from the moving object whose pose is on ``topic`` (or
         TF ``frame``) for ``max_duration`` s (0: until halted)."""
+        ...
+
+    def follow_route(self, start: int | Pose2D | None, goal: int | Pose2D) -> TaskHandle:
+        """Drive the world's route graph from ``start`` (a node id, a pose, None: the robot)
+        to ``goal`` (a node id or a pose), rerouting round blocked edges."""
+        ...
+
+    def follow_gps_waypoints(self, waypoints: Sequence[GeoWaypoint]) -> TaskHandle:
+        """Navigate to each geographic waypoint in turn, through the world's datum."""
         ...
 
     def clear_costmaps(self, which: str) -> None:

@@ -56,7 +56,7 @@ class DockingHost(Protocol):
         """The local costmap, up to date."""
         ...
 
-    def _navigate_task(self, goals: list[Pose2D], *, through_poses: bool) -> ServerTask:
+    def navigate_task(self, goals: list[Pose2D], *, through_poses: bool) -> ServerTask:
         """A NavigateToPose task towards ``goals[0]``."""
         ...
 
@@ -93,7 +93,7 @@ class DockingServer:
             host.base,
             self.charger,
             self._scans,
-            lambda goal: host._navigate_task([goal], through_poses=False),
+            lambda goal: host.navigate_task([goal], through_poses=False),
             host.local_costmap,
             self.params,
             period=1.0 / host.params.controller.controller_frequency,

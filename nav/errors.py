@@ -2,9 +2,8 @@
 
 Each Nav2 action has its own range of codes (reference/nav2.md §2): controller 1xx, planner 2xx,
 through-poses planner 3xx, smoother 5xx, waypoint follower 6xx, behaviours 7xx, navigators
-9000/9100, docking and following servers 9xx (the route server's 4xx are in
-:mod:`baobab.nav.future_server_errors` until that server runs). ``NONE = 0`` means success
-everywhere.
+9000/9100, the route server 4xx, the GPS waypoint follower 6xx, docking and following servers
+9xx. ``NONE = 0`` means success everywhere.
 When several actions failed during one navigation, Nav2 reports the numerically lowest non-zero
 code (:func:`reported_error_code`).
 """
@@ -82,6 +81,16 @@ class FollowWaypointsError(IntEnum):
     UNKNOWN = 600
     TASK_EXECUTOR_FAILED = 601
     NO_VALID_WAYPOINTS = 602
+    STOP_ON_MISSED_WAYPOINT = 603
+
+
+class FollowGPSWaypointsError(IntEnum):
+    """``nav2_msgs/action/FollowGPSWaypoints`` result codes (waypoint follower)."""
+
+    NONE = 0
+    UNKNOWN = 600
+    TASK_EXECUTOR_FAILED = 601
+    NO_WAYPOINTS_GIVEN = 602
     STOP_ON_MISSED_WAYPOINT = 603
 
 
@@ -187,6 +196,33 @@ class FollowObjectError(IntEnum):
     FAILED_TO_CONTROL = 903
     TIMEOUT = 904
     UNKNOWN = 999
+
+
+class ComputeRouteError(IntEnum):
+    """``nav2_msgs/action/ComputeRoute`` result codes (route server)."""
+
+    NONE = 0
+    UNKNOWN = 400
+    TF_ERROR = 401
+    NO_VALID_GRAPH = 402
+    INDETERMINANT_NODES_ON_GRAPH = 403
+    TIMEOUT = 404
+    NO_VALID_ROUTE = 405
+    INVALID_EDGE_SCORER_USE = 407
+
+
+class ComputeAndTrackRouteError(IntEnum):
+    """``nav2_msgs/action/ComputeAndTrackRoute`` result codes (route server)."""
+
+    NONE = 0
+    UNKNOWN = 400
+    TF_ERROR = 401
+    NO_VALID_GRAPH = 402
+    INDETERMINANT_NODES_ON_GRAPH = 403
+    TIMEOUT = 404
+    NO_VALID_ROUTE = 405
+    OPERATION_FAILED = 406
+    INVALID_EDGE_SCORER_USE = 407
 
 
 class NavigationError(BaobabError):

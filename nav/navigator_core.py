@@ -35,6 +35,7 @@ from baobab.nav.robot_params import navigation_params
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
 from baobab.nav.server import NavigationServer, build_navigation
+from baobab.nav.world_servers import WorldServers, attach_world_servers
 from baobab.robots.catalog import RobotInfo
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
@@ -163,12 +164,19 @@ class NavigatorCore(Node):
         rig = build_simulated_robot(self._robot, world, start, self._seed)
         params = self._params
         if monitor_params is None:
-            return rig, build_navigation(rig.sim, rig.base, rig.lidar, world, params=params)
-        footprint = robot_footprint(self._robot)
-        monitor = CollisionMonitor(rig.sim, rig.base, rig.lidar, monitor_params, footprint)
-        server = build_navigation(rig.sim, monitor.base, rig.lidar, world, params=params)
-        monitor.serve(server.services)
+            server = build_navigation(rig.sim, rig.base, rig.lidar, world, params=params)
+        else:
+            footprint = robot_footprint(self._robot)
+            monitor = CollisionMonitor(rig.sim, rig.base, rig.lidar, monitor_params, footprint)
+            server = build_navigation(rig.sim, monitor.base, rig.lidar, world, params=params)
+            monitor.serve(server.services)
+        self._world_servers = attach_world_servers(server, world)
         return rig, server
+
+    @property
+    def world_servers(self) -> WorldServers:
+        """The route server and GPS waypoint follower of the world, where it has them."""
+        return self._world_servers
 
     def _monitor_params(self, world: World, robot: RobotInfo) -> CollisionMonitorParams | None:
         """The collision monitor of ``world``'s and the constructor's parameters.

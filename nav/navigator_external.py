@@ -17,8 +17,7 @@ from collections.abc import Sequence
 
 from baobab.nav import msgs
 from baobab.nav.collision_monitor import COLLISION_MONITOR_TOGGLE
-from baobab.nav.errors import GoalRejectedError
-from baobab.nav.future_server_errors import ComputeRouteError
+from baobab.nav.errors import ComputeRouteError, GoalRejectedError
 from baobab.nav.interfaces import RESULT_KEY
 from baobab.nav.navigator_feedback import RunningTask
 from baobab.nav.navigator_tasks import NavigatorTasks

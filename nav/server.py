@@ -58,12 +58,13 @@ from baobab.nav.task_slot import TaskSlot
 from baobab.nav.through_poses import ThroughPosesPlanner
 from baobab.nav.velocity_smoother import smoothed
 from baobab.nav.waypoints import WaypointFollower
+from baobab.nav.world_actions import WorldActions
 from baobab.sim.simulation import PeriodicHandle, Simulation
 from baobab.sim.tasks import TaskHandle
 from baobab.sim.world import Pose2D, World
 
 
-class NavigationServer(PluggedServerTasks):
+class NavigationServer(PluggedServerTasks, WorldActions):
     """Nav2-style navigation for one mobile base in a simulation.
 
     Args:
@@ -138,7 +139,7 @@ class NavigationServer(PluggedServerTasks):
         """Plan and drive to ``goal`` (map frame), replanning at 1 Hz, with recoveries."""
         return self.tasks.submit(
             "navigate_to_pose",
-            lambda: self._navigate_task([goal], through_poses=False),
+            lambda: self.navigate_task([goal], through_poses=False),
             lambda task: _preempt_navigation(task, [goal]),
         )
 
@@ -147,7 +148,7 @@ class NavigationServer(PluggedServerTasks):
         goal_list = list(goals)
         return self.tasks.submit(
             "navigate_through_poses",
-            lambda: self._navigate_task(goal_list, through_poses=True),
+            lambda: self.navigate_task(goal_list, through_poses=True),
             lambda task: _preempt_navigation(task, goal_list),
         )
 
@@ -174,7 +175,7 @@ class NavigationServer(PluggedServerTasks):
         def make() -> ServerTask:
             return WaypointFollower(
                 points,
-                lambda pose: self._navigate_task([pose], through_poses=False),
+                lambda pose: self.navigate_task([pose], through_poses=False),
                 wait_at_waypoint=wait,
                 stop_on_failure=stop,
                 loop_rate=self.params.waypoint_loop_rate,
@@ -401,7 +402,8 @@ class NavigationServer(PluggedServerTasks):
 
     # -- internals ----------------------------------------------------------------------------
 
-    def _navigate_task(self, goals: list[Pose2D], *, through_poses: bool) -> NavigateTask:
+    def navigate_task(self, goals: list[Pose2D], *, through_poses: bool) -> NavigateTask:
+        """A navigation to ``goals``, not submitted: the waypoint followers run these."""
         return NavigateTask(
             goals,
             through_poses=through_poses,

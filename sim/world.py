@@ -9,6 +9,10 @@ rectangle is the floor, its solid cells are walls, and the boxes, cylinders, spa
 locations of the file come on top; a map alone has no spawn. ``filters:`` names Nav2 costmap
 filter masks (:mod:`baobab.sim.world_map`). ``load_world`` also takes a map_server YAML
 itself as a world.
+
+Optional: a ``route_graph`` (a Nav2 GeoJSON graph file next to the world file,
+:mod:`baobab.sim.route_graph_file`) and a ``datum`` placing the map on the Earth
+(:mod:`baobab.sim.datum`).
 """
 
 from __future__ import annotations
@@ -28,9 +32,12 @@ from pydantic import (
     model_validator,
 )
 
+from baobab.sim.datum import Datum
 from baobab.sim.docks import DOCK_COLOUR, DOCK_HEIGHT, Dock, check_docks
 from baobab.sim.errors import WorldError
 from baobab.sim.moving_objects import MovingObject, check_moving_objects
+from baobab.sim.route_graph_file import RouteGraph, load_route_graph
+from baobab.sim.route_graph_geometry import check_on_world
 from baobab.sim.world_map import FilterSettings, MapSettings, WorldMaps, load_world_maps
 from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import (
@@ -172,6 +179,11 @@ class World(_Strict):
         "written: the navigation stack reads them (baobab.nav.collision_monitor_params)",
     )
     _maps: WorldMaps = PrivateAttr(default_factory=WorldMaps)
+    route_graph: str | None = Field(
+        default=None, description="Nav2 GeoJSON route graph file, relative to the world file"
+    )
+    datum: Datum | None = None
+    _routes: RouteGraph | None = PrivateAttr(default=None)
 
     @model_validator(mode="after")
     def _check(self, info: ValidationInfo) -> World:
@@ -379,6 +391,17 @@ class World(_Strict):
         )
         return world
 
+    @property
+    def routes(self) -> RouteGraph | None:
+        """The route graph loaded from ``route_graph``, or None."""
+        return self._routes
+
+    def with_route_graph(self, graph: RouteGraph) -> World:
+        """This world with ``graph`` as its route graph (a mission's own ``route_graph``)."""
+        world = self.model_copy()
+        world._routes = graph
+        return world
+
     def pose(self, name: str) -> Pose2D:
         """A named location or spawn pose; ``WorldError``-free lookup is the caller's job."""
         if name in self.locations:
@@ -453,6 +476,14 @@ def load_world(name_or_path: str | Path) -> World:
         world = World.model_validate(data, context={"folder": path.parent})
     except ValidationError as exc:
         raise describe_validation_error(document, exc, (), WorldError) from None
+    if world.route_graph is not None:
+        graph_path = path.parent / world.route_graph
+        if not graph_path.is_file():
+            raise document.error(
+                ("route_graph",), f"route graph file '{graph_path}' not found", WorldError
+            )
+        world._routes = load_route_graph(graph_path)
+        check_on_world(world._routes, world)
     if world.map is not None or world.filters is not None:
         return world  # its map and masks are files of their own, cached where they load
     if len(_LOADED) >= _LOADED_MAX:

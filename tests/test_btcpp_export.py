@@ -164,7 +164,29 @@ tree:
     - follow_object: {frame: visitor}
 timeout: 60
 """
-CORPUS = {"mobile": MOBILE, "arm": ARM, "lobby": LOBBY}
+ROUTES = """
+mission: btcpp_routes
+world: town
+robot: turtlebot3
+tree:
+  sequence:
+    - follow_route: 22
+    - follow_route: {start: 3, goal: 5}
+    - follow_route: {goal: fast_food, start: {x: 0, y: 0}}
+timeout: 100
+"""
+
+GPS = """
+mission: btcpp_gps
+world: farm
+robot: turtlebot3
+tree:
+  follow_gps_waypoints:
+    - {latitude: 38.538162164, longitude: -121.761631182, yaw_deg: 90}
+    - {latitude: 38.538180181, longitude: -121.761631182, altitude: 12.5}
+timeout: 100
+"""
+CORPUS = {"mobile": MOBILE, "arm": ARM, "routes": ROUTES, "gps": GPS, "lobby": LOBBY}
 
 
 def mission_file(tmp_path: Path, body: str, name: str) -> Path:

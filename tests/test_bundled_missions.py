@@ -33,6 +33,8 @@ def test_the_expected_missions_are_bundled() -> None:
         "lobby_dock",
         "lobby_follow",
         "walls_collision_monitor",
+        "town_route",
+        "farm_gps_patrol",
         "office_patrol",
     }
 

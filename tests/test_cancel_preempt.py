@@ -67,6 +67,7 @@ import itertools
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Literal
 
 import mujoco
@@ -78,8 +79,9 @@ from navigation_rig import ROOM_DOCK, dock_room, sealed_room, walker_room
 
 from baobab.nav import BasicNavigator, TaskResult
 from baobab.nav.errors import AssistedTeleopError, ComputePathToPoseError
-from baobab.nav.msgs import Header, Twist, Vector3, pose_stamped
+from baobab.nav.msgs import Header, Quaternion, Twist, Vector3, pose_stamped
 from baobab.nav.msgs import Path as PathMessage
+from baobab.nav.ros.geographic_msgs.msg import GeoPoint, GeoPose
 from baobab.nav.server import NavigationServer
 from baobab.robots.diff_drive.base import DiffDriveBase
 from baobab.robots.diff_drive.controller_tasks import BaseControllerServer
@@ -89,9 +91,10 @@ from baobab.robots.panda.model import MAX_OPENING, TCP_SITE
 from baobab.robots.panda.pose import Pose
 from baobab.robots.panda.scene import build_panda_sim
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
+from baobab.sim.geodesy import MapDatum
 from baobab.sim.simulation import Simulation
 from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
-from baobab.sim.world import Pose2D, World
+from baobab.sim.world import Pose2D, World, load_world
 
 LINEAR_AT_REST = 0.01
 """m/s: a base slower than this is at rest."""
@@ -361,6 +364,27 @@ def follow_path(navigator: BasicNavigator, corners: list[tuple[float, float]]) -
     navigator.followPath(polyline(corners))
     (x0, y0), (x1, y1) = corners[-2:]
     return reaches(navigator, Pose2D(x=x1, y=y1, yaw=math.atan2(y1 - y0, x1 - x0)), 30.0)
+
+
+LANES = Path(__file__).parent / "missions" / "worlds" / "lanes.yaml"
+"""The route graph and GPS test world: a loop of lanes round an island, with a datum."""
+
+
+def follow_gps_waypoints(navigator: BasicNavigator, goals: list[Pose2D]) -> Finish:
+    """GPS waypoints at the map poses ``goals`` (through the world's datum)."""
+    assert navigator.world.datum is not None
+    plane = MapDatum(navigator.world.datum)
+    poses = []
+    for goal in goals:
+        latitude, longitude, _ = plane.to_geodetic(goal.x, goal.y)
+        orientation = Quaternion(z=math.sin(goal.yaw / 2), w=math.cos(goal.yaw / 2))
+        poses.append(
+            GeoPose(
+                position=GeoPoint(latitude=latitude, longitude=longitude), orientation=orientation
+            )
+        )
+    navigator.followGpsWaypoints(poses)
+    return reaches(navigator, goals[-1], 50.0)
 
 
 NAV_TICK = 0.05
@@ -656,6 +680,23 @@ NAV_CASES = [
         world="walker",
         switch=lambda nav: spin(nav, 1.0),
     ),
+    NavCase(
+        "followGpsWaypoints",
+        9.0,
+        lambda nav: follow_gps_waypoints(
+            nav, [Pose2D(x=-2.5, y=0.6, yaw=1.57), Pose2D(x=-2.0, y=1.2, yaw=0.8)]
+        ),
+        lambda nav, variant: follow_gps_waypoints(
+            nav,
+            [
+                [Pose2D(x=-2.8, y=-0.8, yaw=-1.57)],
+                [Pose2D(x=-2.2, y=0.9, yaw=1.0), Pose2D(x=-2.6, y=-0.5, yaw=-2.0)],
+            ][variant],
+        ),
+        end=Pose2D(x=-2.0, y=1.2, yaw=0.8),
+        switch=lambda nav: go_to_pose(nav, Pose2D(x=-2.6, y=-1.0, yaw=-1.57)),
+        world="lanes",
+    ),
     # A goal sealed off by walls: replanning fails, and the cancels and new goals land in the
     # recoveries (clearing, Spin, Wait, BackUp) until NO_VALID_PATH ends it after ~17 s.
     NavCase(
@@ -677,6 +718,7 @@ WORLDS: dict[str, Callable[[], World | str]] = {
     "sealed": sealed_room,
     "dock_room": dock_room,
     "walker": walker_room,
+    "lanes": lambda: load_world(LANES),
 }
 """The worlds the cases run in; each robot starts at its world's spawn."""
 
@@ -822,6 +864,53 @@ def test_the_navigation_servers_wait_cancels_and_preempts_at_any_moment(
             assert second.status is TaskStatus.SUCCEEDED
             assert duration - 1e-9 <= ended - sent <= duration + 0.15 + 1e-9, ended - sent
         assert server.active_task is None
+        assert_base_comes_to_rest(sim, base)
+    except BaseException:
+        cleanup_after_failure(server)
+        raise
+
+
+ROUTE_GOALS = {2: Pose2D(x=-1.5, y=1.5), 6: Pose2D(x=-1.5, y=-2.0), 3: Pose2D(x=1.5, y=1.5)}
+"""The lanes world's nodes the route cases drive to (m)."""
+
+
+@property_settings(5)
+@given(permille=PERMILLE, action=ACTIONS, variant=st.integers(0, 1))
+@example(permille=0, action="cancel", variant=0)
+@example(permille=300, action="cancel", variant=0)
+@example(permille=300, action="preempt", variant=1)
+@example(permille=1000, action="preempt", variant=0)
+def test_a_driven_route_cancels_and_preempts_at_any_moment(
+    navigators: Navigators, permille: int, action: Action, variant: int
+) -> None:
+    """The mission leaf's follow_route: node 1 to node 2 of the lanes' route graph; a new goal
+    takes over in place (the old one ends FAILED, "preempted") and its route is planned
+    from the robot's pose; a cancel ends the route's tracking too."""
+    navigator = navigators.get("lanes")
+    server, sim = navigator.server, navigator.server.sim
+    routes = navigator.world_servers.routes
+    assert routes is not None
+    base = reset_navigator(navigator)
+    try:
+        first = server.follow_route(1, 2)
+        sim.step_to(sim.step_count + delay_steps(sim, 14.0, permille))
+        before = first.outcome
+        assert_ended_as_alone(before, TaskStatus.SUCCEEDED)
+        if before is not None:
+            assert planar_distance(navigator.robot_pose(), ROUTE_GOALS[2]) < 0.3
+        if action == "cancel":
+            server.cancel()
+            assert_cancel_consistent(first, before)
+        else:
+            goal = (6, 3)[variant]
+            second = server.follow_route(None, goal)
+            assert_preempted(first, before, TaskStatus.FAILED)
+            run_until_done(sim, second, 80.0)
+            assert second.status is TaskStatus.SUCCEEDED, second.outcome
+            assert planar_distance(navigator.robot_pose(), ROUTE_GOALS[goal]) < 0.3
+            assert second.feedback["last_node_id"] == goal
+        assert server.active_task is None
+        assert routes.tracking is None
         assert_base_comes_to_rest(sim, base)
     except BaseException:
         cleanup_after_failure(server)

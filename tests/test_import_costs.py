@@ -114,7 +114,12 @@ def test_validate_of_every_bundled_mission_loads_no_physics_plots_or_navigation(
     )
     loaded = _loaded(script)
     assert "baobab.missions.language.loader" in loaded  # the check really loaded the missions
-    refused = _matching(loaded, VALIDATE_MUST_NOT_LOAD)
+    # GPS waypoints are converted to the map while the mission loads, by pymap3d, which
+    # imports numpy when it is installed: numpy is the only module a GPS mission adds.
+    gps = "farm_gps_patrol" in {Path(path).stem for path in BUNDLED}
+    allowed = ("numpy",) if gps else ()
+    assert "pymap3d" in loaded or not gps
+    refused = _matching(loaded, tuple(m for m in VALIDATE_MUST_NOT_LOAD if m not in allowed))
     assert [name for name in refused if name not in VALIDATE_MAY_LOAD] == []
 
 

@@ -52,6 +52,7 @@ def test_validate_accepts_the_fixtures(capsys: pytest.CaptureFixture[str]) -> No
         f"{FIXTURES / 'dock.yaml'}: ok (dock: turtlebot3 in lobby, 4 nodes)",
         f"{FIXTURES / 'follow.yaml'}: ok (follow: turtlebot3 in lobby, 4 nodes)",
         f"{FIXTURES / 'guarded.yaml'}: ok (guarded: turtlebot3 in walls, 5 nodes)",
+        f"{FIXTURES / 'lanes_tour.yaml'}: ok (lanes_tour: turtlebot3 in lanes.yaml, 5 nodes)",
         f"{FIXTURES / 'patrol.yaml'}: ok (patrol: turtlebot3 in walls, 27 nodes)",
         f"{FIXTURES / 'pick.yaml'}: ok (pick_and_place: panda in panda_table, 11 nodes)",
         f"{FIXTURES / 'ros_listener.yaml'}: ok (ros_listener: turtlebot3 in walls, 3 nodes)",

@@ -193,6 +193,30 @@ def test_example_waypoint_follower(capsys: pytest.CaptureFixture[str], recorded:
     assert not any(watch.touched for watch in recorded.contacts)
 
 
+def test_example_route_follower_drives_the_towns_route_graph(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "route_follower.py", "town") == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("Route [3, 13, 14, 15, 22] of cost 18.12")
+    assert "Passed node 15, on edge 134 to node 22" in out
+    assert out[-2:] == ["Reached node 22", "Goal succeeded!"]
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=11.0, y=-6.0)) <= 0.25
+    assert not any(watch.touched for watch in recorded.contacts)
+
+
+def test_example_gps_waypoint_follower_ends_where_the_waypoints_lie_in_the_farm(
+    capsys: pytest.CaptureFixture[str], recorded: Recorded
+) -> None:
+    assert run(EXAMPLES / "gps_waypoint_follower.py", "farm") == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[-1] == "Goal succeeded!"
+    assert recorded.final_pose is not None
+    assert distance(recorded.final_pose, Pose2D(x=6.0, y=-2.2)) <= 0.25  # the datum's plane
+    assert not any(watch.touched for watch in recorded.contacts)
+
+
 def test_example_nav_through_poses(capsys: pytest.CaptureFixture[str], recorded: Recorded) -> None:
     assert run(EXAMPLES / "nav_through_poses.py", "farm") == 0
     out = capsys.readouterr().out

@@ -147,7 +147,7 @@ def test_follow_path_tracks_a_given_path_with_the_controller_alone() -> None:
 
 def test_navigate_to_pose_tree_has_nav2s_shape() -> None:
     rig = make_rig("walls")
-    task = rig.server._navigate_task([rig.world.locations["goal_open"]], through_poses=False)
+    task = rig.server.navigate_task([rig.world.locations["goal_open"]], through_poses=False)
     root = task.root
     assert isinstance(root, RecoveryNode) and root.number_of_retries == 6
     pipeline, recovery = root.children
@@ -166,7 +166,7 @@ def test_navigate_to_pose_tree_has_nav2s_shape() -> None:
     assert goal_updated.name == "GoalUpdated"
     assert isinstance(actions, RoundRobin)
     assert [c.name for c in actions.children] == ["ClearingActions", "Spin", "Wait", "BackUp"]
-    through = rig.server._navigate_task([rig.world.locations["goal_open"]], through_poses=True)
+    through = rig.server.navigate_task([rig.world.locations["goal_open"]], through_poses=True)
     assert isinstance(through, NavigateTask)
     through_rate = through.root.children[0].children[0]
     assert isinstance(through_rate, RateController)

@@ -59,8 +59,9 @@ def test_error_code_names_are_those_of_the_robots_capabilities() -> None:
         for value in vars(nav_errors).values()
         if isinstance(value, type) and issubclass(value, enum.IntEnum) and value is not enum.IntEnum
     ]
-    assert len(nav_enums) == 15  # with the docking (2) and following (1) servers' codes
+    assert len(nav_enums) == 18  # with docking (2), following (1), routes (2) and GPS (1) codes
     assert mobile["FAILED_TO_DETECT_DOCK"] == {904}
+    assert mobile["NO_VALID_ROUTE"] == {405} and mobile["OPERATION_FAILED"] == {406}
     assert all(member.name in mobile for codes_enum in nav_enums for member in codes_enum)
 
 

@@ -10,7 +10,8 @@ Order of work (each step's errors come before the next step's):
 4. robot (a bundled name or a robot file inside the mission's folder, or the ``--robot``
    override; one of ``robots:`` when the mission lists the robots it fits), world (a bundled
    name or a file inside the mission's folder: a world file or a map_server map YAML; or
-   ``--world``), the mission's costmap filter masks, and locations (the world's spawns and
+   ``--world``), the mission's own route graph (a GeoJSON file inside the folder, checked
+   against the world), the mission's costmap filter masks, and locations (the world's spawns and
    locations, then the mission's, which win);
 5. start pose, the collision monitor (the world's and the mission's blocks), the tree (node
    types, capabilities, parameters, goal poses in free space), every subtree body, then the
@@ -56,6 +57,8 @@ from baobab.robots.catalog import RobotInfo, robot_named
 from baobab.robots.robot_file import is_robot_path, load_robot, load_robot_file
 from baobab.sim.errors import BaobabError, unknown_name
 from baobab.sim.input_files import file_kind_problem
+from baobab.sim.route_graph_file import load_route_graph
+from baobab.sim.route_graph_geometry import check_on_world
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
 from baobab.sim.world_map import FilterSettings
 from baobab.sim.yaml_source import (
@@ -236,6 +239,7 @@ class _Loader:
             ) from None
         robot = self._robot(file, robot_override)
         world, world_name = self._world(file.world, robot)
+        world = self._route_graph(file.route_graph, world)
         if file.filters is not None:
             world = self._filters(file.filters, world)
         nav2_params = None
@@ -341,8 +345,9 @@ class _Loader:
         if relative.is_absolute() or not resolved.is_relative_to(folder):
             raise self._error(
                 (key,),
-                f"{key} file '{written}' is outside the mission's folder; give a bundled {key} "
-                "name or a path inside the folder",
+                f"{key} file '{written}' is outside the mission's folder; give "
+                + ("a" if key == "route_graph" else f"a bundled {key} name or a")
+                + " path inside the folder",
             )
         try:
             problem = file_kind_problem(resolved.stat().st_mode)
@@ -376,6 +381,23 @@ class _Loader:
                 f"{kind} '{robot.name}'",
             )
         return robot
+
+    def _route_graph(self, written: str | None, world: World | None) -> World | None:
+        """The world with the mission's own route graph in place of its own, if it names one.
+
+        Raises:
+            MissionError: no mobile robot's world, or the file outside the folder or missing.
+            WorldError: a mistake in the graph file, or a node or edge the world makes
+                impossible (located in the graph file).
+        """
+        if written is None:
+            return world
+        if world is None:
+            raise self._error(("route_graph",), "a route graph needs a mobile robot's world")
+        resolved = self._file_in_folder("route_graph", written)
+        graph = load_route_graph(resolved)
+        check_on_world(graph, world)
+        return world.with_route_graph(graph)
 
     def _filters(self, filters: FilterSettings, world: World | None) -> World:
         """The world with the mission's costmap filter masks (files in the mission's folder)."""

@@ -20,6 +20,7 @@ MOBILE_METRICS = (
     "planned_path_length",
     "costmap_clears",
     "replans",
+    "route_reroutes",
     "teleop_min_scaling",
     "teleop_slowed_cycles",
     "teleop_max_speed",

@@ -420,6 +420,11 @@ class MissionFile(_Strict):
         description="Nav2 costmap filter masks (map_server YAML files inside the mission's "
         "folder), replacing the world's of the same kind",
     )
+    route_graph: str | None = Field(
+        default=None,
+        description="a Nav2 GeoJSON route graph file inside the mission's folder, in place of "
+        "the world's",
+    )
     robot: RobotRef = Field(
         description="a bundled robot's name, or a robot file path inside the mission's folder"
     )

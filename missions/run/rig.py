@@ -46,7 +46,9 @@ if TYPE_CHECKING:
     from baobab.nav.collision_monitor import CollisionMonitor, MonitorChange
     from baobab.nav.ros.mission_nodes import MissionNodes
     from baobab.nav.server import NavigationServer
+    from baobab.nav.world_servers import WorldServers
     from baobab.robots.diff_drive.base import DiffDriveBase
+    from baobab.sim.geodesy import GeoWaypoint
 
 ARM_CONTACT_NAME_PERIOD = 0.01
 """How often (s) the arm's contacts are looked at for the names of what it touched."""
@@ -130,12 +132,14 @@ def build_navigation(
     teleop: TeleopChannel,
     mission: Mission | None = None,
     monitor: CollisionMonitor | None = None,
-) -> NavigationServer:
+) -> tuple[NavigationServer, WorldServers]:
     """The navigation server of the mobile robot ``info`` describes, with its settings (and the
     ``mission``'s Nav2 parameter file's on top, with or without substitutes), fed by teleop
-    events (imported only now), and driving through the collision monitor when there is one."""
+    events, driving through the collision monitor when there is one, and the servers of the
+    world's route graph and datum (imported only now)."""
     from baobab.nav.robot_params import navigation_params
     from baobab.nav.server import build_navigation as build_server
+    from baobab.nav.world_servers import attach_world_servers
 
     params = navigation_params(info)
     if mission is not None and mission.nav2_params is not None:
@@ -148,7 +152,7 @@ def build_navigation(
     if monitor is not None:
         monitor.serve(server.services)
     teleop.subscribe(lambda twist: server.teleop_command(*(twist or (0.0, 0.0))))
-    return server
+    return server, attach_world_servers(server, world)
 
 
 def _collision_monitor(
@@ -245,6 +249,14 @@ class ClearCountingPort:
         """The following server's FollowObject."""
         return self.server.follow_object(topic, frame, max_duration)
 
+    def follow_route(self, start: int | Pose2D | None, goal: int | Pose2D) -> TaskHandle:
+        """The server's route driving."""
+        return self.server.follow_route(start, goal)
+
+    def follow_gps_waypoints(self, waypoints: Sequence[GeoWaypoint]) -> TaskHandle:
+        """The server's FollowGPSWaypoints."""
+        return self.server.follow_gps_waypoints(waypoints)
+
     def robot_pose(self) -> Pose2D:
         """The robot's map-frame pose."""
         return self.server.robot_pose()
@@ -275,12 +287,13 @@ class MobileRig:
         self.teleop: TeleopChannel | None = TeleopChannel()
         self.obstacles: ObstacleSlots | None = ObstacleSlots(self.sim)
         self.navigation: NavigationServer | None = None
+        self.world_servers: WorldServers | None = None
         self.planned_paths: list[np.ndarray] = []
         self.clear_counter: ClearCountingPort | None = None
         port: NavigationPort | None = None
         sim = self.sim
         if uses_capability(mission, NAVIGATION):
-            self.navigation = build_navigation(
+            self.navigation, self.world_servers = build_navigation(
                 sim, self.robot, self.info, world, self.teleop, mission, self.monitor
             )
             self.clear_counter = ClearCountingPort(self.navigation)
@@ -341,11 +354,17 @@ class MobileRig:
             lambda: 0 if self.navigation is None else self.navigation.metrics.replans,
             description="paths planned after a goal's first",
         )
+        reroutes = "routes planned again round blocked route graph edges"
+        self.metrics.add("route_reroutes", self._reroutes, description=reroutes)
         register_teleop_metrics(
             metrics, lambda: None if self.navigation is None else self.navigation.teleop_stats
         )
         register_collision_monitor_metrics(metrics, lambda: self.monitor)
         return metrics
+
+    def _reroutes(self) -> int:
+        routes = None if self.world_servers is None else self.world_servers.routes
+        return 0 if routes is None else routes.reroutes
 
     def _top_speed(self) -> float:
         """The speed (m/s) a speed limit in percent is a part of: the controller's

@@ -11,13 +11,13 @@ from __future__ import annotations
 from baobab.nav.errors import (
     ComputePathThroughPosesError,
     ComputePathToPoseError,
+    FollowGPSWaypointsError,
     FollowPathError,
     FollowWaypointsError,
     NavigateThroughPosesError,
     NavigateToPoseError,
     SmoothPathError,
 )
-from baobab.nav.future_server_errors import FollowGPSWaypointsError
 from baobab.nav.msgs import Goals, Path, PoseStamped
 from baobab.nav.ros.geographic_msgs.msg import GeoPose
 from baobab.nav.ros.nav2_msgs.msg import TrackingFeedback, WaypointStatus

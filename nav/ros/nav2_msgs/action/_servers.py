@@ -6,8 +6,13 @@ FollowObject is Rolling's (``nav2_msgs``; it started in ``opennav_following_msgs
 
 from __future__ import annotations
 
-from baobab.nav.errors import DockRobotError, FollowObjectError, UndockRobotError
-from baobab.nav.future_server_errors import ComputeAndTrackRouteError, ComputeRouteError
+from baobab.nav.errors import (
+    ComputeAndTrackRouteError,
+    ComputeRouteError,
+    DockRobotError,
+    FollowObjectError,
+    UndockRobotError,
+)
 from baobab.nav.msgs import Path, PoseStamped
 from baobab.nav.ros.nav2_msgs.msg import Route
 from baobab.nav.rosaction import Action, result_codes
