@@ -523,6 +523,40 @@ def bad_input_figures() -> list[Figure]:
     ]
 
 
+def map_figures() -> list[Figure]:
+    """Issue 22: a 2000 x 2000-cell map loaded and built; its lidar scan against the cafe's."""
+    report = _script_report("bench_maps.py", quiet=True)
+    command = "python bench/bench_maps.py"
+    return [
+        Figure(
+            f"map {report['cells']} x {report['cells']} cells: load + build the model "
+            f"({report['static_boxes']} boxes)",
+            report["load_and_build_s"],
+            "s",
+            1.5,
+            False,
+            command,
+        ),
+        Figure("map: lidar scan / the cafe's", report["scan_ratio"], "ratio", 2.0, False, command),
+        Figure(
+            f"map: mj_step / the cafe's ({report['sensors']} sensors)",
+            report["step_ratio"],
+            "ratio",
+            4.0,
+            False,
+            command,
+        ),
+        Figure(
+            "map: real-time factor of a 9 m NavigateToPose, set-up included",
+            report["navigation"]["rtf"],
+            "x",
+            20.0,
+            True,
+            command,
+        ),
+    ]
+
+
 def ros_figures() -> list[Figure]:
     """Issue 25: node code against the simulation (``baobab ros run``), loop real-time factor."""
     report = _script_report("bench_ros.py", quiet=True)
@@ -612,6 +646,7 @@ SECTIONS: dict[str, Callable[[], list[Figure]]] = {
     "getpath": get_path_figures,
     "startup": startup_figures,
     "arm": arm_figures,
+    "maps": map_figures,
     "ros": ros_figures,
     "scripts": script_sleep_figures,
 }

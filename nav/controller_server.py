@@ -18,6 +18,7 @@ from typing import Any
 
 from baobab.nav.checkers import SimpleGoalChecker, SimpleProgressChecker
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import SpeedLimit
 from baobab.nav.errors import FollowPathError, NavigationError
 from baobab.nav.feedback import path_tracking
 from baobab.nav.interfaces import MobileBase
@@ -81,6 +82,8 @@ class PathFollower:
         self.feedback: dict[str, Any] = {}
         self._last_valid = 0.0
         self._lengths: list[float] = [0.0]
+        self.speed_limit: SpeedLimit | None = None
+        """The speed limit in force (None: none was ever set)."""
 
     def start(self, path: Path, now: float) -> None:
         """Begin following ``path`` at sim time ``now`` (s): a new goal, checkers reset."""
@@ -95,6 +98,12 @@ class PathFollower:
         self.path = path
         self.goal_checker.reset()
         self._lengths = path.cumulative_lengths.tolist()  # list items read faster than numpy's
+
+    def set_speed_limit(self, limit: SpeedLimit) -> None:
+        """Apply a speed limit (a speed filter's) to the controller, as Nav2's controller server
+        forwards ``speed_limit`` to its controller; it lasts until the next one."""
+        self.speed_limit = limit
+        self.controller.set_speed_limit(limit)
 
     def remaining_length(self) -> float:
         """Length (m) of :attr:`located_path` from the pose closest to the robot last cycle."""

@@ -44,11 +44,11 @@ class CostmapUpdates:
         self._local.update(self._base.pose(), [scan] if fresh and scan is not None else [])
 
     def update_global(self) -> None:
-        """Mark the latest scan into the global costmap if it is new."""
+        """Locate the robot for the keepout filter; mark the latest scan if it is new."""
         scan = self._latest_scan
-        if scan is not None and scan is not self._global_scan:
-            self._global_scan = scan
-            self._global.add_scan(scan)
+        fresh = scan is not None and scan is not self._global_scan
+        self._global_scan = scan
+        self._global.update(self._base.pose(), [scan] if fresh and scan is not None else [])
 
     def clear_and_remark(self, which: str) -> None:
         """Clear the ``local``, ``global`` or ``all`` obstacle layers, then mark the latest scan

@@ -2,7 +2,8 @@
 
 A :class:`LayeredCostmap` combines a static layer (the world's geometry), an obstacle layer
 (lidar) and an inflation layer into one master :class:`~baobab.nav.costmap.Costmap2D`, the way
-Nav2's ``Costmap2DROS`` does: static cells first, then the maximum with the obstacle layer, then
+Nav2's ``Costmap2DROS`` does: static cells first, then the obstacle layer's over them (Nav2's
+``updateWithMax``: a lidar hit is lethal on any static cell, an unknown one included), then
 inflation. Updates are incremental and lazy: a scan records the cells whose combined value it
 changed, a rolling window's move shifts the master and records the cells that entered, and the
 master is recomputed only there (plus the inflation radius around changed cells) and only when
@@ -11,12 +12,14 @@ someone reads it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from baobab.nav.costmap import FREE_SPACE, Costmap2D
+from baobab.nav.costmap_filters import KeepoutFilter
 from baobab.nav.layers import (
     Bounds,
     InflationLayer,
@@ -26,6 +29,7 @@ from baobab.nav.layers import (
     StaticLayer,
     union_bounds,
 )
+from baobab.nav.static_map import StaticLayerParams
 from baobab.nav.window_kernels import (
     WINDOW,
     Layers,
@@ -60,6 +64,7 @@ class CostmapParams:
     inflation_radius: float = _ROBOT.inflation_radius
     cost_scaling_factor: float = _ROBOT.cost_scaling_factor
     obstacle: ObstacleParams = field(default_factory=ObstacleParams)
+    static: StaticLayerParams = field(default_factory=StaticLayerParams)
     use_static_layer: bool = True
     use_obstacle_layer: bool = True
 
@@ -85,6 +90,7 @@ class LayeredCostmap:
         window: ``(ix0, iy0, size_x, size_y)`` in lattice cells.
         rolling: True for a window that follows the robot.
         params: layer settings.
+        keepout: a keepout filter on the static layer's lattice, applied last.
     """
 
     def __init__(
@@ -93,9 +99,12 @@ class LayeredCostmap:
         window: tuple[int, int, int, int],
         rolling: bool,
         params: CostmapParams | None = None,
+        keepout: KeepoutFilter | None = None,
     ) -> None:
         self.params = params or CostmapParams()
         self.static_layer = static
+        self.keepout = keepout
+        self._in_keepout = False
         self.rolling = rolling
         ix0, iy0, size_x, size_y = window
         self._ix0, self._iy0 = ix0, iy0
@@ -133,12 +142,17 @@ class LayeredCostmap:
 
     @classmethod
     def global_costmap(
-        cls, world: World, params: CostmapParams | None = None, static: StaticLayer | None = None
+        cls,
+        world: World,
+        params: CostmapParams | None = None,
+        static: StaticLayer | None = None,
+        keepout: KeepoutFilter | None = None,
     ) -> LayeredCostmap:
-        """The costmap over the whole floor (and its lethal border)."""
+        """The costmap over the whole floor (and its lethal border), or over the map."""
         params = params or CostmapParams()
-        static = static or StaticLayer(world, params.resolution)
-        return cls(static, (0, 0, static.size_x, static.size_y), rolling=False, params=params)
+        static = static or StaticLayer(world, params.resolution, params=params.static)
+        window = (0, 0, static.size_x, static.size_y)
+        return cls(static, window, rolling=False, params=params, keepout=keepout)
 
     @classmethod
     def local_costmap(
@@ -148,6 +162,7 @@ class LayeredCostmap:
         params: CostmapParams | None = None,
         size: tuple[float, float] = (3.0, 3.0),
         static: StaticLayer | None = None,
+        keepout: KeepoutFilter | None = None,
     ) -> LayeredCostmap:
         """A rolling window of ``size`` (m), Nav2's 3 m x 3 m by default, centred on ``center``.
 
@@ -156,10 +171,10 @@ class LayeredCostmap:
         the lidar. ``CostmapParams(use_static_layer=False)`` gives Nav2's local layers.
         """
         params = params or CostmapParams()
-        static = static or StaticLayer(world, params.resolution)
-        size_x = round(size[0] / params.resolution)
-        size_y = round(size[1] / params.resolution)
-        costmap = cls(static, (0, 0, size_x, size_y), rolling=True, params=params)
+        static = static or StaticLayer(world, params.resolution, params=params.static)
+        size_x = round(size[0] / static.resolution)
+        size_y = round(size[1] / static.resolution)
+        costmap = cls(static, (0, 0, size_x, size_y), rolling=True, params=params, keepout=keepout)
         costmap.update_origin(center.x, center.y)
         return costmap
 
@@ -224,10 +239,27 @@ class LayeredCostmap:
 
     def update(self, robot_pose: Pose2D | None = None, scans: Iterable[LaserScan] = ()) -> None:
         """One update cycle: follow the robot (rolling window), then take in the scans."""
-        if self.rolling and robot_pose is not None:
-            self.update_origin(robot_pose.x, robot_pose.y)
+        if robot_pose is not None:
+            if self.rolling:
+                self.update_origin(robot_pose.x, robot_pose.y)
+            self._locate_keepout(robot_pose)
         for scan in scans:
             self.add_scan(scan)
+
+    def _locate_keepout(self, robot_pose: Pose2D) -> None:
+        """Whether the robot stands in a keepout zone; on a change, redo the zone's cells."""
+        keepout = self.keepout
+        if keepout is None or keepout.bounds is None:
+            return
+        res = self.resolution
+        lattice_x = math.floor((robot_pose.x - self.static_layer.origin_x) / res)
+        lattice_y = math.floor((robot_pose.y - self.static_layer.origin_y) / res)
+        inside = keepout.overrides_at(lattice_x, lattice_y)
+        if inside == self._in_keepout:
+            return
+        self._in_keepout = inside
+        x0, y0, x1, y1 = keepout.bounds
+        self._stale.append((x0 - self._ix0, y0 - self._iy0, x1 - self._ix0, y1 - self._iy0))
 
     def clear(self) -> None:
         """Reset the obstacle layer (clearEntireCostmap); the static layer stays."""
@@ -327,11 +359,16 @@ class LayeredCostmap:
         layers = self._layers
         window = self._window()
         for rect in rects:
-            if static_costs is not None and refresh_window_static(
-                layers, static_costs, window, rect, self._scratch.costs
-            ):
-                continue
-            refresh_window(layers, window, rect, self._scratch)
+            if static_costs is not None:
+                refresh_window_static(layers, static_costs, window, rect, self._scratch.costs)
+            else:
+                refresh_window(layers, window, rect, self._scratch)
+        if self.keepout is not None:
+            master = self._master.data
+            for x0, y0, x1, y1 in rects:
+                self.keepout.apply(
+                    master[y0:y1, x0:x1], self._ix0 + x0, self._iy0 + y0, self._in_keepout
+                )
         self._changed, self._stale = [], []
         self.revision += 1
 

@@ -23,6 +23,7 @@ from baobab.nav.costmap import (
     Costmap2D,
 )
 from baobab.nav.raytrace_kernels import OBSTACLE_RANGES, RayTracer, cell_thresholds, trace_scan
+from baobab.nav.static_map import StaticLayerParams, map_costs
 from baobab.nav.window_kernels import inflation_costs, shift_grid
 from baobab.robots.catalog import default_mobile_robot
 from baobab.sim.errors import BaobabError
@@ -53,6 +54,10 @@ class CostmapSizeError(BaobabError):
 class StaticLayer:
     """The world's fixed geometry rasterised once: a cell is lethal when an obstacle overlaps it.
 
+    On a world that stands on a map, the raster is the map itself, read as Nav2's static layer
+    reads it (:func:`~baobab.nav.static_map.map_costs`): the map's cells, resolution and
+    origin, no border; the world's own boxes and cylinders are rasterised on top.
+
     Boxes (with yaw) and cylinders are lethal where they overlap a cell with positive area
     (an exact separating-axis test, not a centre sample); every cell not wholly on the floor is
     lethal, so the floor edge keeps the robot on the floor. The raster covers the floor plus
@@ -60,15 +65,31 @@ class StaticLayer:
 
     Args:
         world: the world to rasterise.
-        resolution: cell side (m); Nav2's 0.05 by default.
-        margin_cells: lethal cells kept around the floor.
+        resolution: cell side (m); Nav2's 0.05 by default (a map's own on a map).
+        margin_cells: lethal cells kept around the floor (none around a map).
+        params: how a map's values become costs.
 
     Raises:
         CostmapSizeError: more than ``MAX_COSTMAP_CELLS`` cells (a resolution finer than the
             0.05 m the world was checked at).
     """
 
-    def __init__(self, world: World, resolution: float = 0.05, margin_cells: int = 1) -> None:
+    def __init__(
+        self,
+        world: World,
+        resolution: float = 0.05,
+        margin_cells: int = 1,
+        params: StaticLayerParams | None = None,
+    ) -> None:
+        self._inflated_key: tuple[bytes, int] | None = None
+        self._inflated = np.empty((0, 0), dtype=np.uint8)
+        grid = world.grid
+        if grid is not None:
+            self.resolution = grid.resolution
+            self.origin_x, self.origin_y = grid.origin
+            self.raster = map_costs(grid.data, params)
+            self._rasterise_obstacles(world)
+            return
         x_min, y_min, x_max, y_max = world.bounds
         self.resolution = float(resolution)
         self.origin_x = x_min - margin_cells * resolution
@@ -89,12 +110,13 @@ class StaticLayer:
         off_x = (centres_x - half < x_min - _TOUCH_EPS) | (centres_x + half > x_max + _TOUCH_EPS)
         off_y = (centres_y - half < y_min - _TOUCH_EPS) | (centres_y + half > y_max + _TOUCH_EPS)
         self.raster[off_y[:, None] | off_x[None, :]] = LETHAL_OBSTACLE
+        self._rasterise_obstacles(world)
+
+    def _rasterise_obstacles(self, world: World) -> None:
         for box in world.boxes:
             self._rasterise_box(box)
         for cylinder in world.cylinders:
             self._rasterise_cylinder(cylinder)
-        self._inflated_key: tuple[bytes, int] | None = None
-        self._inflated = np.empty((0, 0), dtype=np.uint8)
 
     @property
     def size_x(self) -> int:

@@ -73,7 +73,12 @@ from baobab.nav.navigator_messages import (
     path_from_message,
     path_message,
 )
-from baobab.nav.navigator_robot import NavigatorSetupError, check_free, pose_is_free
+from baobab.nav.navigator_robot import (
+    NavigatorSetupError,
+    check_free,
+    default_start,
+    pose_is_free,
+)
 from baobab.nav.server import NavigationServer
 from baobab.sim.errors import WorldError
 from baobab.sim.viewer import RealTimePacer
@@ -273,12 +278,14 @@ class BasicNavigator(NavigatorExternal):
         return costmap_message(self._live_server().local_costmap(), self._stamp(), "master")
 
     def changeMap(self, map_filepath: str | FilePath) -> bool:
-        """Switch to another world: a bundled world name or a world YAML path.
+        """Switch to another map: a map_server map YAML (as Nav2's ``load_map`` takes), a
+        world YAML or a bundled world name.
 
         The simulation is rebuilt around the new world with the robot where it stands if
-        that pose is free there, else at the new world's default spawn; a running task is
-        canceled, and sim time goes on from where it was. Returns False (with the task error
-        set to a ``LoadMap`` result code and the reason) when the world cannot be loaded.
+        that pose is free there, else at the new world's default spawn (a map without one:
+        its origin, if free); a running task is canceled, and sim time goes on from where it
+        was. Returns False (with the task error set to a ``LoadMap`` result code and the
+        reason) when the map cannot be loaded or the robot has nowhere free to stand.
         """
         self.info("Changing map...")
         server = self._live_server()
@@ -294,7 +301,15 @@ class BasicNavigator(NavigatorExternal):
             self._set_task_error((int(code), str(exc)))
             return False
         pose = self._rig.base.pose()
-        start = pose if pose_is_free(world, pose, self._rig.footprint) else world.spawn
+        try:
+            footprint = self._rig.footprint
+            start = (
+                pose if pose_is_free(world, pose, footprint) else default_start(world, footprint)
+            )
+        except NavigatorSetupError as exc:
+            self.error(f"Change map request failed: {exc}")
+            self._set_task_error((int(LoadMapResult.RESULT_UNDEFINED_FAILURE), str(exc)))
+            return False
         server.close()  # cancels the running task
         self._time_offset = self._sim_seconds()
         self._rig, self._server = self._build(world, start)

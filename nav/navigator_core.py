@@ -17,7 +17,12 @@ from pathlib import Path as FilePath
 
 from baobab.nav import msgs
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
-from baobab.nav.navigator_robot import SimulatedRobot, build_simulated_robot, navigator_robot
+from baobab.nav.navigator_robot import (
+    SimulatedRobot,
+    build_simulated_robot,
+    default_start,
+    navigator_robot,
+)
 from baobab.nav.navigator_time import NavigatorWaits
 from baobab.nav.robot_params import navigation_params
 from baobab.nav.ros.rclpy.node import Node
@@ -57,7 +62,8 @@ class NavigatorCore(Node):
         robot: a bundled mobile robot's name (``baobab list``), a robot file's path, or a
             registry entry; None: what :func:`~baobab.nav.defaults.navigator_defaults` says
             (``baobab nav2 --robot``), else the registry's default mobile robot.
-        start: the robot's map-frame start pose; the world's default spawn when None.
+        start: the robot's map-frame start pose; the world's default spawn when None (on a
+            map without one, the map origin: :func:`~baobab.nav.navigator_robot.default_start`).
         seed: seed of the simulation's random generator.
         realtime: pace the simulation to the wall clock (for watching a run).
 
@@ -95,7 +101,8 @@ class NavigatorCore(Node):
         self._seed = settings.seed
         self._time_offset = 0.0
         self._world = loaded
-        self._rig, self._server = self._build(loaded, settings.start or loaded.spawn)
+        start = settings.start or default_start(loaded, self._robot.mobile_facts.footprint)
+        self._rig, self._server = self._build(loaded, start)
         super().__init__(node_name, namespace=namespace)
         self._sim_clock = Clock(clock_type=ClockType.ROS_TIME, source=self._sim_seconds)
         self._pacer = RealTimePacer() if settings.realtime else None

@@ -197,6 +197,27 @@ def pose_is_free(world: World, pose: Pose2D, footprint: Footprint) -> bool:
     return footprint.clearance_in(world, pose)[1] >= 0.0
 
 
+def default_start(world: World, footprint: Footprint) -> Pose2D:
+    """Where a robot starts when nothing says: the world's default spawn, or on a map without
+    one the map frame's origin (where Nav2's AMCL starts its estimate, ``initial_pose`` 0, 0, 0).
+
+    Raises:
+        NavigatorSetupError: a map without a spawn whose origin is not free.
+    """
+    spawn = world.spawns.get("default")
+    if spawn is not None:
+        return spawn
+    origin = Pose2D(x=0.0, y=0.0)
+    name, clearance = footprint.clearance_in(world, origin)
+    if clearance < 0.0:
+        raise NavigatorSetupError(
+            f"world '{world.name}' has no spawn and the map origin (0, 0) is not free for the "
+            f"robot's footprint ('{name}' is in the way); give a start pose (start=Pose2D(...), "
+            "--start X,Y,YAW, a mission's start:)"
+        )
+    return origin
+
+
 def check_free(world: World, pose: Pose2D, footprint: Footprint, *, what: str) -> None:
     """Raise unless ``footprint`` at ``pose`` is free in ``world``.
 

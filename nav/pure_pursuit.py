@@ -33,6 +33,7 @@ import numpy as np
 
 from baobab.nav import rpp_kernel as kernel
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import SpeedLimit, applied_speed
 from baobab.nav.errors import CollisionAheadError, FollowPathError, NavigationError
 from baobab.nav.path import Path
 from baobab.robots.catalog import default_mobile_robot
@@ -73,13 +74,20 @@ class RegulatedPurePursuitParams:
     controller_frequency: float = 20.0
     max_robot_pose_search_dist: float | None = None
 
-    def pack(self) -> np.ndarray:
-        """These settings as the kernel's :data:`~baobab.nav.rpp_kernel.RPP_SETTINGS` record.
+    def pack(self, desired_linear_vel: float | None = None) -> np.ndarray:
+        """These settings as the kernel's :data:`~baobab.nav.rpp_kernel.RPP_SETTINGS` record,
+        with ``desired_linear_vel`` (m/s) replaced when given (a speed limit in force).
 
         ``max_robot_pose_search_dist`` None or 0 means the costmap's half extent (NaN there).
         """
         search = self.max_robot_pose_search_dist or math.nan
-        return record(kernel.RPP_SETTINGS, self, max_robot_pose_search_dist=search)
+        speed = self.desired_linear_vel if desired_linear_vel is None else desired_linear_vel
+        return record(
+            kernel.RPP_SETTINGS,
+            self,
+            max_robot_pose_search_dist=search,
+            desired_linear_vel=speed,
+        )
 
 
 class RegulatedPurePursuit:
@@ -100,6 +108,12 @@ class RegulatedPurePursuit:
         self._along = np.zeros(1)
         self.closest_index = 0
         self.last_carrot: tuple[float, float] | None = None
+
+    def set_speed_limit(self, limit: SpeedLimit | None) -> None:
+        """Nav2's ``setSpeedLimit``: the top speed becomes ``desired_linear_vel`` limited by
+        ``limit`` (a percentage of it, or m/s; None or 0 restores it)."""
+        speed = applied_speed(limit, self.params.desired_linear_vel)
+        self._settings = self.params.pack(desired_linear_vel=speed)
 
     def reset(self) -> None:
         """Forget the current path and its pruning."""

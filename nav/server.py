@@ -46,6 +46,7 @@ from baobab.nav.behaviors import (
 )
 from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
+from baobab.nav.costmap_filters import KeepoutParams, keepout_filter, speed_filter
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
@@ -80,6 +81,7 @@ class NavigationParams:
     behaviors: BehaviorParams = field(default_factory=BehaviorParams)
     navigator: NavigatorParams = field(default_factory=NavigatorParams)
     waypoint_loop_rate: float = 20.0
+    keepout: KeepoutParams = field(default_factory=KeepoutParams)
 
 
 class NavigationServer:
@@ -108,16 +110,28 @@ class NavigationServer:
         self.sim = sim
         self.base = base
         self.world = world
-        static = StaticLayer(world, p.global_costmap.resolution)
+        static = StaticLayer(world, p.global_costmap.resolution, params=p.global_costmap.static)
         local_static = (
             static
             if p.local_costmap.resolution == p.global_costmap.resolution
-            else StaticLayer(world, p.local_costmap.resolution)
+            and p.local_costmap.static == p.global_costmap.static
+            else StaticLayer(world, p.local_costmap.resolution, params=p.local_costmap.static)
         )
-        self.global_layers = LayeredCostmap.global_costmap(world, p.global_costmap, static)
+        self.global_layers = LayeredCostmap.global_costmap(
+            world,
+            p.global_costmap,
+            static,
+            keepout_filter(world, static, p.global_costmap.inflation, p.keepout),
+        )
         self.local_layers = LayeredCostmap.local_costmap(
-            world, base.pose(), p.local_costmap, p.local_costmap_size, local_static
+            world,
+            base.pose(),
+            p.local_costmap,
+            p.local_costmap_size,
+            local_static,
+            keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout),
         )
+        self.speed_filter = speed_filter(world)
         self.planner = GlobalPlanner(p.planner, p.smoother)
         self.through_poses = ThroughPosesPlanner(self.planner)
         self.smoother = p.smoother
@@ -433,6 +447,11 @@ class NavigationServer:
 
     def _update_local(self, _now: float) -> None:
         self.costmap_updates.update_local()
+        if self.speed_filter is not None:
+            pose = self.base.pose()
+            limit = self.speed_filter.update(pose.x, pose.y)
+            if limit is not None:
+                self.follower.set_speed_limit(limit)
 
     def _update_global(self, _now: float) -> None:
         self.costmap_updates.update_global()

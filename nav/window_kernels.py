@@ -86,6 +86,22 @@ def _static_cost(raster: np.ndarray, w: Record, sx: int, sy: int) -> int:  # pra
     return LETHAL_OBSTACLE
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def combined_cost(static: int, obstacle: int) -> int:  # pragma: no cover - compiled
+    """A cell's cost from the static layer's and the obstacle layer's: Nav2's ``updateWithMax``.
+
+    An unknown obstacle cell adds nothing; a known one raises the cell, and replaces an
+    unknown static cell (so a lidar hit on an unknown map cell is lethal, as in Nav2). A free
+    obstacle cell adds nothing either: baobab's obstacle layer does not track unknown space,
+    so free there may mean never seen, and it does not free an unknown map cell.
+    """
+    if obstacle in (NO_INFORMATION, FREE_SPACE):
+        return static
+    if static == NO_INFORMATION:
+        return obstacle
+    return max(static, obstacle)
+
+
 @numba.njit(cache=True, nogil=True)
 def base_change_bounds(
     obstacle: np.ndarray,
@@ -95,7 +111,8 @@ def base_change_bounds(
     changed_old: np.ndarray,
     bounds: np.ndarray,
 ) -> bool:  # pragma: no cover - compiled
-    """Bounds of the changed obstacle cells whose combined (static max obstacle) value changed.
+    """Bounds of the changed obstacle cells whose combined value (:func:`combined_cost`)
+    changed.
 
     ``changed_index`` holds ``iy * width + ix`` of each changed cell, ``changed_old`` its old
     value; ``window`` is the :data:`WINDOW` record. Writes ``(ix0, iy0, ix1, iy1)`` to
@@ -108,7 +125,7 @@ def base_change_bounds(
         index = changed_index[e]
         iy, ix = index // width, index % width
         static = _static_cost(raster, w, w.raster_x0 + ix, w.raster_y0 + iy)
-        if max(static, changed_old[e]) == max(static, obstacle[iy, ix]):
+        if combined_cost(static, changed_old[e]) == combined_cost(static, obstacle[iy, ix]):
             continue
         include_cell(bounds, ix, iy, not found)
         found = True
@@ -192,10 +209,10 @@ def refresh_window(
     """Recompute the master cells ``rect`` from the static and obstacle layers.
 
     A cell's combined value is the static raster's (lethal beyond the raster; free without a
-    static layer) or, where larger, the obstacle layer's (inside the window only). Its master
-    value is the larger of that and its inflation cost, except that an unknown cell only takes
-    an inscribed or lethal inflation (Nav2's rule). Lethal cells up to ``margin`` cells beyond
-    the rectangle count. ``window`` is the :data:`WINDOW` record.
+    static layer) raised by the obstacle layer's (inside the window only; :func:`combined_cost`).
+    Its master value is the larger of that and its inflation cost, except that an unknown cell
+    only takes an inscribed or lethal inflation (Nav2's rule). Lethal cells up to ``margin``
+    cells beyond the rectangle count. ``window`` is the :data:`WINDOW` record.
     """
     w = window[0]
     master, raster, obstacle = layers.master, layers.raster, layers.obstacle
@@ -225,7 +242,7 @@ def refresh_window(
         if w.use_obstacle and 0 <= gy < height and obstacle_c0 < obstacle_c1:
             cells = obstacle[gy, ix0 + obstacle_c0 : ix0 + obstacle_c1]
             for c in range(obstacle_c1 - obstacle_c0):
-                row[obstacle_c0 + c] = max(row[obstacle_c0 + c], cells[c])
+                row[obstacle_c0 + c] = combined_cost(row[obstacle_c0 + c], cells[c])
         lethal_gap = gap[r]
         for c in range(cols):
             lethal_gap[c] = 0 if row[c] == LETHAL_OBSTACLE else cap
@@ -276,7 +293,7 @@ def dropped_base_bounds(
 ) -> bool:  # pragma: no cover - compiled
     """Bounds of the obstacle cells a window move by ``(dix, diy)`` drops that raised a cell.
 
-    A dropped cell matters when it made its combined cell (static max obstacle) larger than
+    A dropped cell matters when it made its combined cell (:func:`combined_cost`) differ from
     the static cell alone. ``window`` is the :data:`WINDOW` record before the move. Bounds
     ``(ix0, iy0, ix1, iy1)`` go to ``bounds`` in the window's cells before the move; returns
     whether there are any.
@@ -299,7 +316,7 @@ def dropped_base_bounds(
                 if value == FREE_SPACE:
                     continue
                 static = _static_cost(raster, w, w.raster_x0 + ix, w.raster_y0 + iy)
-                if value <= static:
+                if combined_cost(static, value) == static:
                     continue
                 include_cell(bounds, ix, iy, not found)
                 found = True
@@ -309,16 +326,15 @@ def dropped_base_bounds(
 @numba.njit(cache=True, nogil=True)
 def refresh_window_static(
     layers: Layers, static_costs: np.ndarray, window: np.ndarray, rect: Rect, costs: np.ndarray
-) -> bool:  # pragma: no cover - compiled
+) -> None:  # pragma: no cover - compiled
     """:func:`refresh_window` from the static layer's own inflation plus the obstacles'.
 
     ``static_costs`` is the inflation cost of the static raster by itself (lethal beyond the
-    raster). With a cost table that never rises with the distance, the cost of the nearest
-    lethal cell of the union is the larger of the static cost and the cost of the nearest
-    obstacle that makes a free static cell lethal, so only those obstacles are stamped in.
-    Returns False, changing nothing, when an obstacle cell above lethal (unknown) lies within
-    ``reach`` of the rectangle: it would hide a static lethal cell, so the caller must use
-    :func:`refresh_window`. ``costs`` is scratch of at least the rectangle's size.
+    raster). The combined lethal cells are the static ones and the obstacle layer's
+    (:func:`combined_cost`); with a cost table that never rises with the distance, the cost
+    of the nearest lethal cell of the union is the larger of the static cost and the cost of
+    the nearest obstacle that makes a static cell lethal, so only those obstacles are stamped
+    in. ``costs`` is scratch of at least the rectangle's size.
     """
     w = window[0]
     master, raster, obstacle, table = layers.master, layers.raster, layers.obstacle, layers.table
@@ -328,14 +344,8 @@ def refresh_window_static(
     height, width = master.shape
     raster_h, raster_w = raster.shape
     last = table.shape[0] - 1
-    # The obstacles within reach of the rectangle, checked first: nothing changes on False.
     ox0, oy0 = max(x0 - reach, 0), max(y0 - reach, 0)
     ox1, oy1 = min(x1 + reach, width), min(y1 + reach, height)
-    if use_obstacle:
-        for oy in range(oy0, oy1):
-            for ox in range(ox0, ox1):
-                if obstacle[oy, ox] > LETHAL_OBSTACLE:
-                    return False
     for i in range(y1 - y0):
         sy = raster_y0 + y0 + i
         inside_y = 0 <= sy < raster_h
@@ -355,8 +365,8 @@ def refresh_window_static(
                 if value != LETHAL_OBSTACLE:
                     continue
                 static = _static_cost(raster, w, raster_x0 + ox, raster_y0 + oy)
-                if static >= LETHAL_OBSTACLE:
-                    continue  # already lethal in the static costs, or hidden by unknown
+                if static == LETHAL_OBSTACLE:
+                    continue  # already lethal in the static costs
                 for i in range(max(oy - reach, y0), min(oy + reach + 1, y1)):
                     dy = i - oy
                     row = costs[i - y0]
@@ -378,10 +388,9 @@ def refresh_window_static(
                 sx = raster_x0 + gx
                 value = raster[sy, sx] if inside_y and 0 <= sx < raster_w else LETHAL_OBSTACLE
             if use_obstacle:
-                value = max(value, obstacle[gy, gx])
+                value = combined_cost(value, obstacle[gy, gx])
             cost = row[j]
             if value == NO_INFORMATION:
                 out[gx] = cost if cost >= INSCRIBED_INFLATED_OBSTACLE else NO_INFORMATION
             else:
                 out[gx] = max(value, cost)
-    return True

@@ -3,7 +3,10 @@
 Geom groups are a contract with the sensors and the contact checks:
 
 - ``FLOOR_GROUP`` (0): the floor plane.
-- ``STATIC_GROUP`` (1): walls, boxes and cylinders of the world file.
+- ``STATIC_GROUP`` (1): walls, boxes and cylinders of the world file, and the boxes a map's
+  solid cells merge into (``map_0``, ``map_1``, ...; :mod:`baobab.sim.map_geometry`), which
+  wear the material :data:`MAP_WALL_MATERIAL`. All are geoms of the world body: MuJoCo's
+  broad phase pays for every geom of any other body at every step.
 - ``MOVABLE_GROUP`` (2): obstacle slots that events spawn or move at run time (mocap bodies).
 - ``ROBOT_GROUP`` (3): every geom of a robot; sensors on a robot exclude this group.
 """
@@ -15,7 +18,14 @@ import math
 import mujoco
 import numpy as np
 
-from baobab.sim.world import FLOOR_NAME, MOVABLE_SLOT_COUNT, MOVABLE_SLOT_PREFIX, World
+from baobab.sim.map_geometry import solid_rectangles
+from baobab.sim.world import (
+    FLOOR_NAME,
+    MAP_GEOM_PREFIX,
+    MOVABLE_SLOT_COUNT,
+    MOVABLE_SLOT_PREFIX,
+    World,
+)
 
 FLOOR_GROUP = 0
 STATIC_GROUP = 1
@@ -59,6 +69,7 @@ def world_spec(
     spec.stat.extent = max(world.floor.size) / 2
     _add_floor(spec, world)
     _add_obstacles(spec.worldbody, world)
+    _add_map_walls(spec, world)
     _add_movable_slots(spec.worldbody, movable_slots)
     return spec
 
@@ -114,6 +125,45 @@ def _add_obstacles(body: mujoco.MjsBody, world: World) -> None:
             size=[cylinder.radius, cylinder.height / 2, 0.0],
             pos=[cylinder.center[0], cylinder.center[1], cylinder.height / 2],
             rgba=list(cylinder.colour),
+            group=STATIC_GROUP,
+        )
+
+
+MAP_WALL_COLOUR = (0.35, 0.36, 0.40, 1.0)
+"""Colour of the boxes a map's solid cells become."""
+MAP_WALL_MATERIAL = f"{MAP_GEOM_PREFIX}walls"
+"""The material of every box of a map's walls, which tells them from the world file's own
+obstacles (the name is reserved by the ``map_`` prefix on a world with a map)."""
+
+
+def _add_map_walls(spec: mujoco.MjSpec, world: World) -> None:
+    """The map's solid cells as boxes ``world.map.wall_height`` tall (``STATIC_GROUP``)."""
+    grid, solid = world.grid, world.map_solid()
+    if grid is None or solid is None or world.map is None:
+        return
+    body = spec.worldbody
+    spec.add_material(name=MAP_WALL_MATERIAL, rgba=list(MAP_WALL_COLOUR))
+    height = world.map.wall_height
+    res = grid.resolution
+    x0, y0 = grid.origin
+    rectangles = solid_rectangles(solid)
+    half = np.empty((len(rectangles), 3))
+    half[:, 0] = (rectangles[:, 2] - rectangles[:, 0]) * res / 2
+    half[:, 1] = (rectangles[:, 3] - rectangles[:, 1]) * res / 2
+    half[:, 2] = height / 2
+    centre = np.empty((len(rectangles), 3))
+    centre[:, 0] = x0 + (rectangles[:, 0] + rectangles[:, 2]) * res / 2
+    centre[:, 1] = y0 + (rectangles[:, 1] + rectangles[:, 3]) * res / 2
+    centre[:, 2] = height / 2
+    colour = list(MAP_WALL_COLOUR)
+    for index in range(len(rectangles)):
+        body.add_geom(
+            name=f"{MAP_GEOM_PREFIX}{index}",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            size=half[index].tolist(),
+            pos=centre[index].tolist(),
+            rgba=colour,
+            material=MAP_WALL_MATERIAL,
             group=STATIC_GROUP,
         )
 

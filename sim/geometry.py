@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from baobab.sim.point_clearance import MAP_WALLS, map_distance_at
 from baobab.sim.world import Box, Cylinder, World
 
 FloatArray = NDArray[np.float64]
@@ -75,7 +76,7 @@ def obstacle_distances(world: World, points: ArrayLike) -> FloatArray:
 def clearance(world: World, points: ArrayLike) -> FloatArray:
     """Distance (m) from each point to the nearest obstacle surface or the floor edge.
 
-    Negative inside an obstacle or off the floor.
+    Negative inside an obstacle or off the floor. A map's solid cells count as obstacles.
     """
     p = _as_points(points)
     nearest = floor_edge_distance(world, p)
@@ -83,15 +84,24 @@ def clearance(world: World, points: ArrayLike) -> FloatArray:
         nearest = np.minimum(nearest, box_distance(p, box))
     for cylinder in world.cylinders:
         nearest = np.minimum(nearest, cylinder_distance(p, cylinder))
+    if world.grid is not None:
+        flat = p.reshape(-1, 2)
+        walls = np.array([map_distance_at(world, float(x), float(y)) for x, y in flat])
+        nearest = np.minimum(nearest, walls.reshape(p.shape[:-1]))
     return nearest
 
 
 def nearest_obstacle(world: World, x: float, y: float) -> tuple[str, float]:
-    """Name of the obstacle (or ``FLOOR_EDGE``) nearest to (x, y) and its signed distance (m)."""
+    """Name of the obstacle (or ``FLOOR_EDGE``, or the map's walls) nearest to (x, y) and its
+    signed distance (m)."""
     names = [*obstacle_names(world), FLOOR_EDGE]
     distances = np.append(
         obstacle_distances(world, (x, y))[:, 0], floor_edge_distance(world, (x, y))
     )
+    walls = map_distance_at(world, x, y)
+    if walls is not None:
+        names.append(MAP_WALLS)
+        distances = np.append(distances, walls)
     index = int(np.argmin(distances))
     return names[index], float(distances[index])
 

@@ -274,6 +274,13 @@ def _geoms_in_view(
             return -1
         near = 0.0
         if kind != _PLANE:
+            # Beyond reach by its bounding sphere: skipped before the exact test (a map's
+            # walls are thousands of boxes, nearly all far away).
+            dx = origin[0] - geom_xpos[geom, 0]
+            dy = origin[1] - geom_xpos[geom, 1]
+            far = reach + geometry.geom_rbound[geom]
+            if dx * dx + dy * dy > far * far:
+                continue
             for axis in range(3):
                 offset[axis] = origin[axis] - geom_xpos[geom, axis]
             near = _nearest_surface(

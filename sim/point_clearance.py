@@ -32,7 +32,25 @@ def cylinder_distance_at(x: float, y: float, cylinder: Cylinder) -> float:
 
 
 def obstacle_distances_at(world: World, x: float, y: float) -> list[tuple[str, float]]:
-    """(name, signed distance (m)) to every static obstacle: boxes first, then cylinders."""
+    """(name, signed distance (m)) to every static obstacle: boxes, cylinders, then the map's
+    solid cells (named :data:`MAP_WALLS`) on a world that stands on a map."""
     distances = [(box.name, box_distance_at(x, y, box)) for box in world.boxes]
     distances += [(cyl.name, cylinder_distance_at(x, y, cyl)) for cyl in world.cylinders]
+    distance = map_distance_at(world, x, y)
+    if distance is not None:
+        distances.append((MAP_WALLS, distance))
     return distances
+
+
+MAP_WALLS = "the map's walls"
+"""The name a map's solid cells go by in clearance reports."""
+
+
+def map_distance_at(world: World, x: float, y: float) -> float | None:
+    """Signed distance (m) from (x, y) to the map's nearest solid cell; None without a map."""
+    grid, solid = world.grid, world.map_solid()
+    if grid is None or solid is None:
+        return None
+    from baobab.sim.map_geometry import signed_distance_to_cells  # numpy: maps only
+
+    return signed_distance_to_cells(solid, grid.origin, grid.resolution, x, y)

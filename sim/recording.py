@@ -219,8 +219,10 @@ class Recorder(Closable):
         origin: tuple[float, float],
         frame_id: str = "map",
         field: str = "cost",
+        latched: bool = False,
     ) -> None:
-        """Log a uint8 grid (a costmap) as a Grid with one uint8 field.
+        """Log a grid of bytes as a Grid with one field: uint8 (a costmap) or int8 (a map's
+        occupancy values, -1 unknown, as ``nav_msgs/OccupancyGrid``).
 
         Args:
             topic: the topic.
@@ -230,10 +232,15 @@ class Recorder(Closable):
             origin: position (m) of the outer corner of cell ``[0, 0]`` in ``frame_id``.
             frame_id: the grid's frame.
             field: the field name Foxglove colours by.
+            latched: resend it to live viewers that subscribe later (a map that does not
+                change; see :meth:`log_static_transforms`).
         """
         grid = np.ascontiguousarray(data)
-        if grid.dtype != np.uint8 or grid.ndim != 2:
-            raise ValueError(f"a grid must be a 2D uint8 array, got {grid.dtype} {grid.shape}")
+        numeric = _GRID_TYPES.get(grid.dtype.str)
+        if numeric is None or grid.ndim != 2:
+            raise ValueError(
+                f"a grid must be a 2D uint8 or int8 array, got {grid.dtype} {grid.shape}"
+            )
         ns = self._stamp(topic, t)
         message = fm.Grid(
             timestamp=convert.timestamp(ns),
@@ -243,14 +250,12 @@ class Recorder(Closable):
             cell_size=fm.Vector2(x=resolution, y=resolution),
             row_stride=grid.shape[1],
             cell_stride=1,
-            fields=[
-                fm.PackedElementField(
-                    name=field, offset=0, type=fm.PackedElementFieldNumericType.Uint8
-                )
-            ],
+            fields=[fm.PackedElementField(name=field, offset=0, type=numeric)],
             data=grid.tobytes(),
         )
         self._channel(topic, fc.GridChannel).log(message, log_time=ns)
+        if latched:
+            self._latched[topic] = (message, ns)
 
     # -- scene, arm, JSON ------------------------------------------------------------------------
 
@@ -374,6 +379,13 @@ class Recorder(Closable):
                 if latched is not None:
                     message, ns = latched
                     self._channels[topic][1].log(message, log_time=ns)
+
+
+_GRID_TYPES = {
+    np.dtype(np.uint8).str: fm.PackedElementFieldNumericType.Uint8,
+    np.dtype(np.int8).str: fm.PackedElementFieldNumericType.Int8,
+}
+"""The element types a logged grid may have."""
 
 
 def _frame_transforms(transforms: Sequence[Transform], stamp: fm.Timestamp) -> fm.FrameTransforms:

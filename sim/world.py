@@ -3,6 +3,12 @@
 A world file names a floor, static boxes (walls, counters, crop rows, houses), static cylinders
 (tables, trees, pumps), named spawn poses and named locations. It is validated with pydantic
 and every error names the file, line, column and field.
+
+A world may instead stand on a Nav2 map_server map (``map: ./office.yaml``): the map's
+rectangle is the floor, its solid cells are walls, and the boxes, cylinders, spawns and
+locations of the file come on top; a map alone has no spawn. ``filters:`` names Nav2 costmap
+filter masks (:mod:`baobab.sim.world_map`). ``load_world`` also takes a map_server YAML
+itself as a world.
 """
 
 from __future__ import annotations
@@ -11,11 +17,19 @@ import hashlib
 import math
 from functools import cached_property
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
-from pydantic import ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    ConfigDict,
+    Field,
+    PrivateAttr,
+    ValidationError,
+    ValidationInfo,
+    model_validator,
+)
 
 from baobab.sim.errors import WorldError
+from baobab.sim.world_map import FilterSettings, MapSettings, WorldMaps, load_world_maps
 from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import (
     FieldValueError,
@@ -24,6 +38,11 @@ from baobab.sim.yaml_source import (
     load_located_yaml,
     read_yaml_text,
 )
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from baobab.sim.occupancy_map import OccupancyMap
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -43,6 +62,9 @@ MOVABLE_SLOT_PREFIX = "movable_"
 
 MOVABLE_SLOT_COUNT = 4
 """How many run-time obstacle slots every built model has (at most that many spawned at once)."""
+
+MAP_GEOM_PREFIX = "map_"
+"""Prefix of the geoms a world's map becomes (reserved for obstacle names on a map)."""
 
 # Size limits of a world (README "Limits"): each is checked when the file is loaded, so
 # `baobab validate` refuses a world that a run could not build in memory or in good time.
@@ -127,36 +149,28 @@ class Cylinder(_Strict):
 
 
 class World(_Strict):
-    """A whole world: floor, obstacles, spawn poses and named locations."""
+    """A whole world: floor (or a map), obstacles, spawn poses, named locations and filters."""
 
     name: str
     description: str = ""
-    floor: Floor
+    map: MapSettings | None = None
+    floor: Floor = Floor(size=(1.0, 1.0))
     boxes: list[Box] = Field(default_factory=empty_list)
     cylinders: list[Cylinder] = Field(default_factory=empty_list)
-    spawns: dict[str, Pose2D] = Field(min_length=1)
+    spawns: dict[str, Pose2D] = Field(default_factory=dict)
     locations: dict[str, Pose2D] = Field(default_factory=dict)
+    filters: FilterSettings | None = None
+    _maps: WorldMaps = PrivateAttr(default_factory=WorldMaps)
 
     @model_validator(mode="after")
-    def _check(self) -> World:
-        if "default" not in self.spawns:
+    def _check(self, info: ValidationInfo) -> World:
+        self._load_maps(info)
+        if self.map is None and "floor" not in self.model_fields_set:
+            raise FieldValueError((), "missing required key 'floor' (or a 'map')")
+        if self.map is None and "default" not in self.spawns:
             raise FieldValueError(("spawns",), "needs a 'default' entry")
         self._check_sizes()
-        obstacles = [("boxes", i, b.name) for i, b in enumerate(self.boxes)]
-        obstacles += [("cylinders", i, c.name) for i, c in enumerate(self.cylinders)]
-        seen: set[str] = set()
-        for group, index, name in obstacles:
-            if name in seen:
-                raise FieldValueError(
-                    (group, index, "name"), f"obstacle name '{name}' is used twice"
-                )
-            if name == FLOOR_NAME or name.startswith(MOVABLE_SLOT_PREFIX):
-                raise FieldValueError(
-                    (group, index, "name"),
-                    f"obstacle name '{name}' is reserved ('{FLOOR_NAME}', "
-                    f"'{MOVABLE_SLOT_PREFIX}N' name the floor and run-time obstacles)",
-                )
-            seen.add(name)
+        self._check_names()
         for group, poses in (("spawns", self.spawns), ("locations", self.locations)):
             for label, pose in poses.items():
                 if not self.contains(pose.x, pose.y):
@@ -167,6 +181,50 @@ class World(_Strict):
                         f"x {x_min:g}..{x_max:g}, y {y_min:g}..{y_max:g}",
                     )
         return self
+
+    def _load_maps(self, info: ValidationInfo) -> None:
+        """Load the map and masks (relative to the world file's folder) and take the floor."""
+        if self.map is None and self.filters is None:
+            return
+        context = info.context if isinstance(info.context, dict) else {}
+        folder = Path(context.get("folder", "."))
+        self._maps = load_world_maps(self.map, self.filters, folder)
+        grid = self._maps.grid
+        if grid is None:
+            return
+        if "floor" in self.model_fields_set:
+            raise FieldValueError(("floor",), "a world on a map takes its floor from the map")
+        x_min, y_min, x_max, y_max = grid.bounds
+        floor = Floor(
+            size=(x_max - x_min, y_max - y_min), center=((x_min + x_max) / 2, (y_min + y_max) / 2)
+        )
+        object.__setattr__(self, "floor", floor)  # frozen: the floor is the map's, set once
+
+    def _check_names(self) -> None:
+        obstacles = [("boxes", i, b.name) for i, b in enumerate(self.boxes)]
+        obstacles += [("cylinders", i, c.name) for i, c in enumerate(self.cylinders)]
+        seen: set[str] = set()
+        reserved = f"'{FLOOR_NAME}', '{MOVABLE_SLOT_PREFIX}N' name the floor and run-time obstacles"
+        if self.map is not None:
+            reserved = (
+                f"'{FLOOR_NAME}', '{MOVABLE_SLOT_PREFIX}N', '{MAP_GEOM_PREFIX}N' name the floor, "
+                "run-time obstacles and the map's walls"
+            )
+        for group, index, name in obstacles:
+            if name in seen:
+                raise FieldValueError(
+                    (group, index, "name"), f"obstacle name '{name}' is used twice"
+                )
+            if (
+                name == FLOOR_NAME
+                or name.startswith(MOVABLE_SLOT_PREFIX)
+                or (self.map is not None and name.startswith(MAP_GEOM_PREFIX))
+            ):
+                raise FieldValueError(
+                    (group, index, "name"),
+                    f"obstacle name '{name}' is reserved ({reserved})",
+                )
+            seen.add(name)
 
     def _check_sizes(self) -> None:
         """The limits of :data:`MAX_FLOOR_SIDE` ... :data:`MAX_NAMED_POSES`."""
@@ -234,8 +292,61 @@ class World(_Strict):
 
     @property
     def spawn(self) -> Pose2D:
-        """The default spawn pose."""
-        return self.spawns["default"]
+        """The default spawn pose.
+
+        Raises:
+            WorldError: the world (a map alone) has none.
+        """
+        found = self.spawns.get("default")
+        if found is None:
+            raise WorldError(
+                self.name, 1, 1, f"world '{self.name}' has no default spawn; give a start pose"
+            )
+        return found
+
+    @property
+    def grid(self) -> OccupancyMap | None:
+        """The map_server map the world stands on, or None."""
+        return self._maps.grid
+
+    @property
+    def masks(self) -> WorldMaps:
+        """The loaded map and costmap filter masks."""
+        return self._maps
+
+    @property
+    def unknown_is_solid(self) -> bool:
+        """Whether the map's unknown cells are walls."""
+        return self.map is not None and self.map.unknown == "solid"
+
+    def map_solid(self) -> np.ndarray | None:
+        """The map's solid cells (``bool``, ``[iy, ix]``, row 0 at the bottom), or None."""
+        grid = self._maps.grid
+        return None if grid is None else grid.solid(self.unknown_is_solid)
+
+    def with_filters(self, filters: FilterSettings, folder: Path) -> World:
+        """This world with ``filters`` (mask paths relative to ``folder``, inside it) in place
+        of its own filters of the same kinds: a mission's ``filters:``.
+
+        Raises:
+            FieldValueError: a mask outside ``folder``, missing, or off the map (located at
+                the key ``(kind,)`` in ``filters``).
+            WorldError: a problem inside a mask file (located in it).
+        """
+        try:
+            loaded = load_world_maps(None, filters, folder, self._maps.grid, "mission's")
+        except FieldValueError as exc:
+            raise FieldValueError(exc.key_path[1:], str(exc)) from None
+        own = self.filters or FilterSettings()
+        kept = FilterSettings(
+            keepout=filters.keepout or own.keepout, speed=filters.speed or own.speed
+        )
+        world = self.model_copy(update={"filters": kept})
+        masks = self._maps
+        world._maps = WorldMaps(
+            masks.grid, loaded.keepout or masks.keepout, loaded.speed or masks.speed
+        )
+        return world
 
     def pose(self, name: str) -> Pose2D:
         """A named location or spawn pose; ``WorldError``-free lookup is the caller's job."""
@@ -274,7 +385,10 @@ def bundled_world_names() -> list[str]:
 
 
 def load_world(name_or_path: str | Path) -> World:
-    """Load a bundled world by name (``cafe``) or a world YAML file by path.
+    """Load a bundled world by name (``cafe``), a world YAML file or a map_server map YAML.
+
+    A map YAML (a mapping with an ``image`` key) becomes a world named after its file, with
+    the map and nothing else: no spawn, no filters.
 
     Raises:
         WorldError: located ``file:line:col: message`` for any problem in the file.
@@ -301,10 +415,15 @@ def load_world(name_or_path: str | Path) -> World:
     document = load_located_yaml(path, WorldError, text=text)
     if not isinstance(document.data, dict):
         raise document.error((), "a world file must be a mapping of keys", WorldError)
+    data = document.data
+    if "image" in data and "name" not in data:  # a map_server map YAML
+        data = {"name": path.stem, "map": {"file": path.name}}
     try:
-        world = World.model_validate(document.data)
+        world = World.model_validate(data, context={"folder": path.parent})
     except ValidationError as exc:
         raise describe_validation_error(document, exc, (), WorldError) from None
+    if world.map is not None or world.filters is not None:
+        return world  # its map and masks are files of their own, cached where they load
     if len(_LOADED) >= _LOADED_MAX:
         _LOADED.pop(next(iter(_LOADED)))
     _LOADED[key] = world

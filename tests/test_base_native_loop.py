@@ -9,16 +9,26 @@ may depend on how often Python wakes (how the physics is batched).
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
+from map_files import room_pixels, write_map
 
 from baobab.missions.run.arm_probes import ContactSampler
 from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.robots.diff_drive import MobileRobot
 from baobab.robots.turtlebot3 import BURGER, build_turtlebot3_sim
-from baobab.sim.builder import MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
-from baobab.sim.world import Box, Floor, Pose2D, World
+from baobab.sim.builder import MAP_WALL_MATERIAL, MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
+from baobab.sim.world import (
+    MAP_GEOM_PREFIX,
+    MOVABLE_SLOT_COUNT,
+    Box,
+    Floor,
+    Pose2D,
+    World,
+    load_world,
+)
 
 
 def _commands(seed: int) -> list[tuple[float, float, float]]:
@@ -169,6 +179,43 @@ def test_contact_and_position_samples_match_python_callbacks() -> None:
     assert samples.contact_samples == python_contacts.samples
     assert samples.touched() == sorted(python_contacts.objects) == ["wall"]
     assert drained == python_poses
+
+
+def _map_arena(folder: Path) -> World:
+    """A 4 m x 4 m room on a map with one box of the world file at (1.0, 3.0)."""
+    write_map(folder, room_pixels(80, 80))
+    (folder / "world.yaml").write_text(
+        "name: arena\nmap: ./map.yaml\nspawns: {default: {x: 1.0, y: 1.0}}\n"
+        "boxes: [{name: crate, center: [1.0, 3.0], size: [0.4, 0.4]}]\n"
+    )
+    return load_world(folder / "world.yaml")
+
+
+@pytest.mark.parametrize(
+    ("yaw", "touched"), [(math.pi / 2, ["crate"]), (-math.pi / 2, [MAP_WALL_MATERIAL])]
+)
+def test_a_maps_walls_count_as_one_obstacle_with_two_sensors(
+    tmp_path: Path, yaw: float, touched: list[str]
+) -> None:
+    world = _map_arena(tmp_path)
+    sim, robot = build_turtlebot3_sim(world, Pose2D(x=1.0, y=1.5, yaw=yaw))
+    assert sim.model.nsensor <= 2 + 1 + MOVABLE_SLOT_COUNT + 2  # not one per wall box
+    samples = robot.base.start_probe(pose_period=0.02, contact_period=0.01, drain_period=1.0)
+    groups = sim.model.geom_group
+    python_contacts = ContactSampler(
+        sim,
+        mine=[bool(g == ROBOT_GROUP) for g in groups],
+        others=[bool(g in (STATIC_GROUP, MOVABLE_GROUP)) for g in groups],
+    )
+    sim.every(0.01, python_contacts.sample, name="python contacts", first_call=sim.physics_dt)
+    sim.every(1.0, lambda _now: samples.drain(), name="drain")
+    robot.base.command(0.2, 0.0)  # north into the crate, or south into the map's wall
+    sim.step_for(8.0)
+    walls = {name for name in python_contacts.objects if name.startswith(MAP_GEOM_PREFIX)}
+    assert python_contacts.samples > 50
+    assert samples.contact_samples == python_contacts.samples
+    assert samples.touched() == touched
+    assert bool(walls) == (touched == [MAP_WALL_MATERIAL])
 
 
 def test_samples_inside_the_step_equal_samples_when_python_wakes() -> None:

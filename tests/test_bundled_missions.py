@@ -30,6 +30,7 @@ def test_the_expected_missions_are_bundled() -> None:
         "waypoint_patrol",
         "waypoint_patrol_cancel",
         "town_nav_to_pose",
+        "office_patrol",
     }
 
 

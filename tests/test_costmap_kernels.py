@@ -156,9 +156,12 @@ def reference_master(layers: LayeredCostmap) -> np.ndarray:
         base = layers.static_layer.window(ix0 - pad, iy0 - pad, shape[1], shape[0])
     else:
         base = np.zeros(shape, dtype=np.uint8)
-    if params.use_obstacle_layer:
+    if params.use_obstacle_layer:  # Nav2's updateWithMax; a free obstacle cell adds nothing
         inner = base[pad:-pad, pad:-pad]
-        np.maximum(inner, grid.data, out=inner)
+        obstacle = grid.data
+        known = (obstacle != NO_INFORMATION) & (obstacle != FREE_SPACE)
+        raised = np.where(inner == NO_INFORMATION, obstacle, np.maximum(inner, obstacle))
+        inner[known] = raised[known]
     lethal = base == LETHAL_OBSTACLE
     distance = distance_transform_edt(~lethal) if lethal.any() else np.full(shape, np.inf)
     inflated = InflationLayer(params.inflation).cost_of_distance(distance * res)
@@ -209,8 +212,8 @@ def test_rolling_window_matches_a_full_recompute(use_static: bool) -> None:
 
 
 def test_unknown_obstacle_cells_next_to_static_walls() -> None:
-    # An unknown obstacle cell over a static wall makes the combined cell unknown, not lethal,
-    # so the wall's own inflation no longer counts there.
+    # Nav2's updateWithMax: an unknown obstacle cell adds nothing, so a static wall under it
+    # stays lethal and keeps its inflation.
     world = cluttered_world()
     static = StaticLayer(world)
     layers = LayeredCostmap.local_costmap(world, Pose2D(x=0.0, y=1.2), static=static)
@@ -220,7 +223,23 @@ def test_unknown_obstacle_cells_next_to_static_walls() -> None:
     obstacles[5, 7] = LETHAL_OBSTACLE
     expected = reference_master(layers)
     assert np.array_equal(layers.costmap.data, expected)
-    assert (expected == NO_INFORMATION).any()
+    assert (expected[wall_cells] == LETHAL_OBSTACLE).all()
+
+
+def test_obstacle_cells_over_unknown_static_cells() -> None:
+    # A lethal obstacle cell on an unknown static cell is lethal (and inflates); a free one
+    # leaves it unknown.
+    world = cluttered_world()
+    static = StaticLayer(world)
+    static.raster[40:60, 40:80] = NO_INFORMATION
+    layers = LayeredCostmap.local_costmap(world, Pose2D(x=0.0, y=0.0), static=static)
+    grid = layers.obstacle_layer.grid
+    ix0, iy0 = static.lattice_index(grid.origin_x, grid.origin_y)
+    grid.data[50 - iy0, 60 - ix0] = LETHAL_OBSTACLE
+    expected = reference_master(layers)
+    assert np.array_equal(layers.costmap.data, expected)
+    assert expected[50 - iy0, 60 - ix0] == LETHAL_OBSTACLE
+    assert expected[50 - iy0, 70 - ix0] == NO_INFORMATION
 
 
 def test_inflate_matches_the_distance_transform() -> None:

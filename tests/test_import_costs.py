@@ -15,7 +15,12 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parents[1]
-BUNDLED = sorted(str(path) for path in (REPO / "missions").glob("*.yaml"))
+ON_MAPS = ("office_patrol",)
+"""Bundled missions on a map_server map: validating them reads the map's image (numpy, Pillow)
+and checks their poses against its walls."""
+BUNDLED = sorted(
+    str(path) for path in (REPO / "missions").glob("*.yaml") if path.stem not in ON_MAPS
+)
 LAZY_PACKAGES = (
     "baobab.sim",
     "baobab.nav",
@@ -119,6 +124,21 @@ def test_validate_of_other_robots_and_a_robot_file_loads_no_physics(tmp_path: Pa
     loaded = _loaded(script)
     assert "baobab.robots.robot_file" in loaded
     assert _matching(loaded, VALIDATE_MUST_NOT_LOAD) == []
+
+
+def test_validate_of_a_mission_on_a_map_loads_numpy_for_the_image_and_no_more() -> None:
+    missions = [str(REPO / "missions" / f"{name}.yaml") for name in ON_MAPS]
+    script = (
+        "import contextlib, io, json, sys\n"
+        "from baobab.missions.cli.command_line import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    code = main(['validate', *{missions!r}])\n"
+        "assert code == 0, code\n"
+        "print(json.dumps(sorted(sys.modules)))\n"
+    )
+    loaded = _loaded(script)
+    assert "PIL.Image" in loaded  # the map was read
+    assert _matching(loaded, tuple(p for p in VALIDATE_MUST_NOT_LOAD if p != "numpy")) == []
 
 
 def test_run_refuses_a_bad_mission_before_loading_the_simulation(tmp_path: Path) -> None:

@@ -199,7 +199,8 @@ def _launch_arguments(words: list[str]) -> dict[str, str]:
 
 def run_nodes(args: argparse.Namespace, specs: list[NodeSpec]) -> int:
     """Bring the robot up, run ``specs`` for ``--duration`` and report (module docstring)."""
-    from baobab.missions.cli.nav2_command import parse_seed, parse_start
+    from baobab.missions.cli.arguments import robot_footprint, start_pose
+    from baobab.missions.cli.nav2_command import parse_seed
     from baobab.nav.ros.arguments import parse_ros_arguments
     from baobab.nav.ros.bringup import bring_up
     from baobab.nav.ros.node_files import (
@@ -218,11 +219,9 @@ def run_nodes(args: argparse.Namespace, specs: list[NodeSpec]) -> int:
     start = None
     robot = args.robot or DEFAULT_MOBILE_ROBOT
     if robot not in ARM_NAMES and args.start is not None:
-        from baobab.missions.cli.nav2_command import robot_footprint
         from baobab.sim.world import load_world
 
-        world = load_world(args.world or "walls")
-        start = parse_start(args.start, world, robot_footprint(robot))
+        start = start_pose(args.start, load_world(args.world or "walls"), robot_footprint(robot))
     bringup = bring_up(robot, args.world, seed=seed, start=start)
     runtime = bringup.runtime
     recorder = _recorder(args.record, runtime) if args.record is not None else None

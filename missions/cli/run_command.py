@@ -93,6 +93,12 @@ def configure_run(parser: argparse.ArgumentParser) -> None:
     )
     add_set(parser)
     add_robot(parser, "the mission's robot (where the mission fits it)")
+    parser.add_argument(
+        "--world",
+        metavar="PATH",
+        help="run in this world instead of the mission's: a bundled name, a world YAML file "
+        "or a map_server map YAML (a map has no spawn: the mission needs a start)",
+    )
     parser.add_argument("--seed", type=int, help="override the mission's seed")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/<mission>-<time>)")
     parser.add_argument("--json", action="store_true", help="one JSON result object on stdout")
@@ -181,7 +187,9 @@ def _checked_run(
     child: StartedChild | None,
 ) -> int:
     """Load and check the mission, the baseline and the run folder; then run and report."""
-    mission = load_mission(resolve_mission(args.mission), overrides, robot=args.robot)
+    mission = load_mission(
+        resolve_mission(args.mission), overrides, robot=args.robot, world=args.world
+    )
     baseline = None
     if args.baseline and not args.baseline.exists():  # made after the run: must be writable
         check_output_file("--baseline", args.baseline, create_folders=True)

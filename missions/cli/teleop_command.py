@@ -1,14 +1,15 @@
-"""``baobab teleop --world NAME [--robot NAME_OR_PATH]``: drive a mobile robot with the keyboard,
-assisted teleop on.
+"""``baobab teleop --world NAME [--robot NAME_OR_PATH] [--start X,Y,YAW]``: drive a mobile robot
+with the keyboard, assisted teleop on.
 
 The robot (``--robot``: a bundled mobile robot or a robot file; the registry's default mobile
-robot without it) starts at the world's spawn with its navigation server running one assisted
-teleop session without a time limit, so the collision projection slows it down near obstacles
-and stops it before them (:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the
-keyboard teleop's mapping (:mod:`baobab.robots.diff_drive.teleop`: WASD or ZQSD, the seed's
-0.25 m/s and 1.2 rad/s within the robot's limits) with the terminal rules of
-:mod:`baobab.robots.diff_drive.teleop_terminal` (a press holds for 0.4 s, space stops, ``q``
-quits). The simulation is paced to the wall clock, the one place where that is right, and a
+robot without it) starts at ``--start`` or the world's spawn (on a map without one, its origin)
+with its navigation server running one assisted teleop session without a time limit, so the
+collision projection slows it down near obstacles and stops it before them
+(:class:`~baobab.nav.behaviors.AssistedTeleop`). Keys follow the keyboard teleop's mapping
+(:mod:`baobab.robots.diff_drive.teleop`: WASD or ZQSD, the seed's 0.25 m/s and 1.2 rad/s within
+the robot's limits) with the terminal rules of :mod:`baobab.robots.diff_drive.teleop_terminal`
+(a press holds for 0.4 s, space stops, ``q`` quits). The simulation is paced to the wall clock,
+the one place where that is right, and a
 status line shows the pose, the nearest obstacle and the scaling assisted teleop applies.
 
 :class:`TeleopSession` is the terminal-free part (keys in, sim advanced, status out);
@@ -27,6 +28,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, TextIO
 
+from baobab.missions.cli.arguments import add_start, start_pose
 from baobab.missions.run.exit_codes import EXIT_INVALID, EXIT_OK
 from baobab.robots.catalog import RobotInfo, default_mobile_robot
 from baobab.robots.diff_drive.teleop import LAYOUTS, layout_named
@@ -37,7 +39,7 @@ from baobab.robots.diff_drive.teleop_terminal import (
     TerminalKeys,
 )
 from baobab.sim.tasks import TaskOutcome, TaskStatus
-from baobab.sim.world import World, load_world
+from baobab.sim.world import Pose2D, World, load_world
 
 if TYPE_CHECKING:
     from baobab.nav.server import NavigationServer
@@ -84,19 +86,26 @@ class TeleopSession:
     """A mobile robot in ``world`` driven by key presses through assisted teleop (no terminal).
 
     Args:
-        world: where to drive; the robot starts at its default spawn.
+        world: where to drive.
         keys: the key rules (layout, hold time, speeds).
         robot: the robot (default: the registry's default mobile robot).
+        start: where the robot starts (m, rad); default: the world's spawn.
     """
 
-    def __init__(self, world: World, keys: TerminalKeys, robot: RobotInfo | None = None) -> None:
+    def __init__(
+        self,
+        world: World,
+        keys: TerminalKeys,
+        robot: RobotInfo | None = None,
+        start: Pose2D | None = None,
+    ) -> None:
         from baobab.nav.robot_params import navigation_params  # the navigation stack loads slowly
         from baobab.nav.server import build_navigation
 
         self.world = world
         self.keys = keys
         self.info = robot or default_mobile_robot()
-        self.sim, self.robot = self.info.build_sim(world)
+        self.sim, self.robot = self.info.build_sim(world, start)
         self.server: NavigationServer = build_navigation(
             self.sim,
             self.robot.base,
@@ -211,7 +220,12 @@ def help_text(keys: TerminalKeys, world: str, width: int = 80) -> str:
 
 def configure_teleop(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``baobab teleop``."""
-    parser.add_argument("--world", required=True, help="a bundled world name (or a world file)")
+    parser.add_argument(
+        "--world",
+        required=True,
+        help="a bundled world name, a world YAML file or a map_server map YAML",
+    )
+    add_start(parser)
     parser.add_argument(
         "--robot",
         metavar="NAME_OR_PATH",
@@ -248,14 +262,14 @@ def teleop_command(args: argparse.Namespace) -> int:
     Raises:
         WorldError: for an unknown world (the CLI prints it and exits 2).
         RobotFileError: a robot file that cannot be used (exit 2).
-        NavigatorSetupError: an unknown or fixed robot, or a default spawn that is not free
-            for the robot (exit 2).
+        NavigatorSetupError: an unknown or fixed robot (exit 2).
+        BaobabError: a malformed start, or one not free for the robot (exit 2).
     """
-    world = load_world(args.world)
-    from baobab.nav.navigator_robot import check_free, navigator_robot
+    from baobab.nav.navigator_robot import navigator_robot
 
+    world = load_world(args.world)
     robot = navigator_robot(args.robot)
-    check_free(world, world.spawn, robot.mobile_facts.footprint, what="the default spawn")
+    start = start_pose(args.start, world, robot.mobile_facts.footprint)
     stdin = sys.stdin
     if stdin is None or not stdin.isatty():
         print("baobab teleop: needs an interactive terminal (stdin is not a TTY)", file=sys.stderr)
@@ -264,7 +278,7 @@ def teleop_command(args: argparse.Namespace) -> int:
     keys = TerminalKeys(
         layout_named(args.layout), hold_time=args.hold, linear_speed=linear, angular_speed=angular
     )
-    session = TeleopSession(world, keys, robot)
+    session = TeleopSession(world, keys, robot, start)
     out = sys.stdout
     width = _terminal_width()
     out.write(help_text(keys, world.name, width) + "\n\x1b[?25l")

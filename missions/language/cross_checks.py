@@ -14,9 +14,14 @@ from baobab.behaviours.ports import ARM, TELEOP
 from baobab.behaviours.poses import MissionScope, Pose
 from baobab.missions.language.error_codes import error_codes
 from baobab.missions.language.errors import MissionError, located
-from baobab.missions.language.metric_names import metric_names, structured_metric_names
+from baobab.missions.language.metric_names import (
+    FILTER_METRICS,
+    metric_names,
+    structured_metric_names,
+)
 from baobab.missions.language.models import (
     ARM_EXPECTATIONS,
+    FILTER_EXPECTATIONS,
     LIDAR_FAULTS,
     MAX_EVENTS,
     MOBILE_EXPECTATIONS,
@@ -178,6 +183,7 @@ class MissionChecks:
             problem = metric_name_problem(name, robot)
             if problem is not None:
                 raise self._error(("expect", "metrics", name), problem)
+        self._masks(expect)
         if expect.final_pose_near is not None and expect.final_pose_near.location is not None:
             self._location(
                 expect.final_pose_near.location, ("expect", "final_pose_near", "location")
@@ -192,6 +198,28 @@ class MissionChecks:
                     ("expect", "object_placed", "target"),
                     f"location '{placed.target}' is planar; object_placed needs a spatial "
                     "location {position: [x, y, z]} or [x, y, z]",
+                )
+
+    def _masks(self, expect: Expect) -> None:
+        """Refuse an expectation or a metric bound about a filter mask the world lacks."""
+        world = self.scope.world
+        wanted: list[tuple[KeyPath, str, str]] = [
+            (("expect", key), f"expectation '{key}'", kind)
+            for key, kind in FILTER_EXPECTATIONS.items()
+            if getattr(expect, key) is not None
+        ]
+        wanted += [
+            (("expect", "metrics", name), f"metric '{name}'", FILTER_METRICS[name])
+            for name in expect.metrics or {}
+            if name in FILTER_METRICS
+        ]
+        for path, what, kind in wanted:
+            if world is None or getattr(world.masks, kind) is None:
+                name = "a mobile robot's world" if world is None else f"world '{world.name}'"
+                raise self._error(
+                    path,
+                    f"{what} needs a {kind} filter mask, and {name} has none (filters: "
+                    f"{kind}: in the world file or the mission)",
                 )
 
     def _error_code(self, code: int | str | None) -> None:

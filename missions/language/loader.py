@@ -9,7 +9,8 @@ Order of work (each step's errors come before the next step's):
 3. the top-level model (types, events, expectations);
 4. robot (a bundled name or a robot file inside the mission's folder, or the ``--robot``
    override; one of ``robots:`` when the mission lists the robots it fits), world (a bundled
-   name or a file inside the mission's folder) and locations (the world's spawns and
+   name or a file inside the mission's folder: a world file or a map_server map YAML; or
+   ``--world``), the mission's costmap filter masks, and locations (the world's spawns and
    locations, then the mission's, which win);
 5. start pose, the tree (node types, capabilities, parameters, goal poses in free space),
    every subtree body, then the cross-checks of events and expectations.
@@ -48,10 +49,17 @@ from baobab.missions.language.params import (
 from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
 from baobab.robots.catalog import RobotInfo, robot_named
 from baobab.robots.robot_file import is_robot_path, load_robot, load_robot_file
-from baobab.sim.errors import unknown_name
+from baobab.sim.errors import BaobabError, unknown_name
 from baobab.sim.input_files import file_kind_problem
 from baobab.sim.world import Pose2D, World, bundled_world_names, load_world
-from baobab.sim.yaml_source import KeyPath, LocatedDocument, load_located_yaml, read_yaml_text
+from baobab.sim.world_map import FilterSettings
+from baobab.sim.yaml_source import (
+    FieldValueError,
+    KeyPath,
+    LocatedDocument,
+    load_located_yaml,
+    read_yaml_text,
+)
 
 SCHEMA_HEADER = "# yaml-language-server: $schema="
 """The editor comment that bundled and generated missions begin with, before the schema's
@@ -114,6 +122,7 @@ def load_mission(
     text: str | None = None,
     registry: Registry | None = None,
     robot: str | None = None,
+    world: str | Path | None = None,
 ) -> Mission:
     """Load, substitute and validate a mission file.
 
@@ -124,6 +133,8 @@ def load_mission(
         registry: node types; default: :func:`default_registry`.
         robot: ``--robot``: a bundled robot's name or a robot file's path (from the working
             directory) that replaces the mission's ``robot:``, if the mission fits it.
+        world: a world in place of the mission's (``--world``): a bundled name, a world file
+            or a map_server map YAML anywhere (the user named it); a mobile robot's only.
 
     Raises:
         MissionError: the first problem, as ``path:line:col: message``.
@@ -135,19 +146,24 @@ def load_mission(
     if text is None:
         text = read_yaml_text(mission_path, MissionError)
     document = load_located_yaml(mission_path, MissionError, text=text)
-    return _Loader(mission_path, document, text, registry or default_registry()).load(
-        overrides or {}, robot
-    )
+    loader = _Loader(mission_path, document, text, registry or default_registry(), world)
+    return loader.load(overrides or {}, robot)
 
 
 class _Loader:
     def __init__(
-        self, path: Path, document: LocatedDocument, text: str, registry: Registry
+        self,
+        path: Path,
+        document: LocatedDocument,
+        text: str,
+        registry: Registry,
+        world: str | Path | None = None,
     ) -> None:
         self.path = path
         self.document = document
         self.text = text
         self.registry = registry
+        self.world_override = world
         self.origins: dict[KeyPath, str] = {}
 
     def _error(self, path: KeyPath, message: str) -> MissionError:
@@ -157,7 +173,16 @@ class _Loader:
         data = self._top_level()
         specs = self._params(data.get("params", {}))
         values = resolve_values(specs, overrides, self.document)
-        for key in ("mission", "world", "robot", "robots", "seed", "params", "locations"):
+        for key in (
+            "mission",
+            "world",
+            "robot",
+            "robots",
+            "seed",
+            "params",
+            "locations",
+            "filters",
+        ):
             if key in data:
                 check_no_placeholders(self.document, data[key], (key,))
         substitution = Substitution(
@@ -183,6 +208,8 @@ class _Loader:
             ) from None
         robot = self._robot(file, robot_override)
         world, world_name = self._world(file.world, robot)
+        if file.filters is not None:
+            world = self._filters(file.filters, world)
         scope = MissionScope(
             robot, world, self._locations(file, robot, world), self.path.parent.resolve()
         )
@@ -240,6 +267,13 @@ class _Loader:
             ) from None
 
     def _world(self, written: str | None, robot: RobotInfo) -> tuple[World | None, str]:
+        if self.world_override is not None:
+            if not robot.mobile:
+                raise BaobabError(
+                    f"--world: robot '{robot.name}' stands in its own scene "
+                    f"({', '.join(robot.scenes)}); --world is for mobile robots"
+                )
+            return load_world(self.world_override), str(self.world_override)
         if not robot.mobile:
             if written is None:
                 return None, robot.scenes[0]
@@ -265,7 +299,7 @@ class _Loader:
     def _file_in_folder(self, key: str, written: str) -> Path:
         """The file ``written`` under ``key`` names, checked to lie inside the mission's folder."""
         relative = Path(written)
-        folder = self.path.parent.resolve()
+        folder = self.path.resolve().parent  # the real folder of a linked mission file
         resolved = (folder / relative).resolve()
         if relative.is_absolute() or not resolved.is_relative_to(folder):
             raise self._error(
@@ -306,6 +340,15 @@ class _Loader:
             )
         return robot
 
+    def _filters(self, filters: FilterSettings, world: World | None) -> World:
+        """The world with the mission's costmap filter masks (files in the mission's folder)."""
+        if world is None:
+            raise self._error(("filters",), "filters apply to a mobile robot's world")
+        try:
+            return world.with_filters(filters, self.path.resolve().parent)
+        except FieldValueError as exc:
+            raise self._error(("filters", *exc.key_path), str(exc)) from None
+
     def _locations(
         self, file: MissionFile, robot: RobotInfo, world: World | None
     ) -> dict[str, Pose]:
@@ -334,6 +377,12 @@ class _Loader:
         if written is None:
             if world is None:
                 return None
+            if "default" not in world.spawns:
+                raise self._error(
+                    ("world",),
+                    f"world '{world.name}' is a map with no spawn; give the mission a start: "
+                    "a pose [x, y, yaw] or a location, in free space",
+                )
             spawn = Pose.from_planar(world.spawn.x, world.spawn.y, world.spawn.yaw)
             problem = scope.free_space_problem(spawn)
             if problem is not None:

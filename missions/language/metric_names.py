@@ -14,6 +14,8 @@ MOBILE_METRICS = (
     "straight_line_distance",
     "min_clearance",
     "contacts",
+    "min_keepout_clearance",
+    "speed_limit_excess",
     "number_of_recoveries",
     "planned_path_length",
     "costmap_clears",
@@ -24,6 +26,8 @@ MOBILE_METRICS = (
     "teleop_costmap_clears",
 )
 """The numeric metrics of a mobile robot's run (``baobab.missions.run.rig.MobileRig``)."""
+FILTER_METRICS = {"min_keepout_clearance": "keepout", "speed_limit_excess": "speed"}
+"""Metrics measured against a costmap filter mask, by the mask they need (null without it)."""
 MOBILE_STRUCTURED_METRICS = ("contact_objects", "start_pose", "final_pose", "visited")
 ARM_METRICS = ("sim_time", "tcp_path_length", "object_max_lift", "contacts")
 """The numeric metrics of every arm run; each scene object adds ``<object>_max_lift``, and

@@ -28,6 +28,7 @@ from baobab.missions.language.params import PARAM_NAME_PATTERN, ParamSpec
 from baobab.robots.catalog import ROBOT_NAMES, ROBOTS, robot_named
 from baobab.robots.robot_file import is_robot_path
 from baobab.sim.errors import unknown_name
+from baobab.sim.world_map import FilterSettings
 from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import FieldValueError, empty_list
 
@@ -326,6 +327,11 @@ class ObjectPlaced(_Strict):
     tolerance: Positive = 0.02
 
 
+SPEED_LIMIT_TOLERANCE = 0.01
+"""How much faster than a speed limit (m/s) ``within_speed_limits`` lets the robot go: the
+base's velocity tracking (bound ``metrics: speed_limit_excess`` for another figure)."""
+
+
 class Expect(_Strict):
     """What a run must show to count as intended. Every key is optional."""
 
@@ -338,6 +344,15 @@ class Expect(_Strict):
     visited_in_order: list[Name] | None = Field(default=None, min_length=1)
     min_clearance: NonNegative | None = Field(default=None, description="m, to any obstacle")
     no_contact: bool | None = None
+    no_keepout_entry: bool | None = Field(
+        default=None,
+        description="the footprint never reaches into a keepout zone of the keepout mask",
+    )
+    within_speed_limits: bool | None = Field(
+        default=None,
+        description="the speed stays within the speed mask's limits (at most "
+        f"{SPEED_LIMIT_TOLERANCE:g} m/s over) wherever the whole footprint is under one",
+    )
     max_path_length_ratio: Annotated[float, Field(ge=1, allow_inf_nan=False)] | None = Field(
         default=None, description="driven path length / straight-line distance"
     )
@@ -361,7 +376,11 @@ MOBILE_EXPECTATIONS = (
     "min_clearance",
     "max_path_length_ratio",
     "max_recoveries",
+    "no_keepout_entry",
+    "within_speed_limits",
 )
+FILTER_EXPECTATIONS = {"no_keepout_entry": "keepout", "within_speed_limits": "speed"}
+"""Expectations about a costmap filter mask, by the mask they need."""
 ARM_EXPECTATIONS = ("object_lifted", "object_placed")
 
 
@@ -393,7 +412,13 @@ class MissionFile(_Strict):
     description: str = ""
     world: str | None = Field(
         default=None,
-        description="a bundled world name, or a world file path inside the mission's folder",
+        description="a bundled world name, or a world file or a map_server map YAML inside "
+        "the mission's folder",
+    )
+    filters: FilterSettings | None = Field(
+        default=None,
+        description="Nav2 costmap filter masks (map_server YAML files inside the mission's "
+        "folder), replacing the world's of the same kind",
     )
     robot: RobotRef = Field(
         description="a bundled robot's name, or a robot file path inside the mission's folder"
@@ -404,7 +429,8 @@ class MissionFile(_Strict):
         description="the bundled robots this mission fits; robot: and --robot must be one",
     )
     start: Annotated[Any, POSE_REF_SCHEMA] = Field(
-        default=None, description="start pose or location; default: the world's spawn"
+        default=None,
+        description="start pose or location; default: the world's spawn (a map has none)",
     )
     seed: Annotated[int, Field(ge=0)] = 0
     params: dict[ParamName, ParamSpec] = Field(default_factory=dict)

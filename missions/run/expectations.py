@@ -17,7 +17,13 @@ from typing import Any
 
 from baobab.missions.language.errors import located
 from baobab.missions.language.loader import Mission
-from baobab.missions.language.models import Bounds, Expect, FinalPoseNear, ObjectPlaced
+from baobab.missions.language.models import (
+    SPEED_LIMIT_TOLERANCE,
+    Bounds,
+    Expect,
+    FinalPoseNear,
+    ObjectPlaced,
+)
 from baobab.missions.run.metrics import MetricValue, numeric
 from baobab.sim.errors import unknown_name
 
@@ -201,6 +207,34 @@ class _Checker:
         detail = f"{contacts} contact samples" + (f" ({names})" if names else "")
         return ExpectationResult(
             "no_contact", expected, contacts, (contacts == 0) == expected, detail
+        )
+
+    def no_keepout_entry(self, expected: bool) -> ExpectationResult:
+        clearance = self._number("min_keepout_clearance")
+        if clearance is None:  # validation made sure of the mask: it has no zone
+            return ExpectationResult(
+                "no_keepout_entry", expected, None, expected, "no keepout zone in the mask"
+            )
+        entered = clearance < 0.0
+        detail = (
+            f"the footprint reached {-clearance:.3f} m into a keepout zone"
+            if entered
+            else f"the footprint stayed {clearance:.3f} m from the keepout zones"
+        )
+        return ExpectationResult(
+            "no_keepout_entry", expected, clearance, entered != expected, detail
+        )
+
+    def within_speed_limits(self, expected: bool) -> ExpectationResult:
+        excess = self._number("speed_limit_excess")
+        if excess is None:
+            return ExpectationResult("within_speed_limits", expected, None, False, "no speed mask")
+        within = excess <= SPEED_LIMIT_TOLERANCE
+        detail = (
+            f"at most {excess:.3f} m/s over a speed limit (tolerance {SPEED_LIMIT_TOLERANCE:g} m/s)"
+        )
+        return ExpectationResult(
+            "within_speed_limits", expected, excess, within == expected, detail
         )
 
     def max_path_length_ratio(self, limit: float) -> ExpectationResult:

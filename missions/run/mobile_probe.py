@@ -3,7 +3,8 @@
 Every figure is a function of the sim alone: ground-truth path length (50 Hz), minimum
 clearance of the footprint to any obstacle (20 Hz, ``mj_geomDistance`` on the obstacles its
 bounds cannot rule out), robot-obstacle contacts (100 Hz, from one contact sensor per obstacle
-geom), locations entered in order, start and final pose. Positions and contacts are sampled by
+geom; a map's walls count as one obstacle, ``map_walls``), locations entered in order, start
+and final pose. Positions and contacts are sampled by
 the base's compiled loop inside the physics step (:meth:`DiffDriveBase.start_probe`) and taken
 in here every :data:`DRAIN_PERIOD` and before any read.
 """

@@ -37,6 +37,20 @@ class CostmapImage:
     resolution: float
 
 
+@dataclass(frozen=True)
+class ZoneImage:
+    """A costmap filter zone: ``cells[iy, ix]`` (bool), lower-left origin (m), cell side (m).
+
+    ``label`` names it in the legend (``keepout zone``, ``speed limit 0.11 m/s``).
+    """
+
+    label: str
+    cells: np.ndarray
+    origin: Point
+    resolution: float
+    keepout: bool
+
+
 @dataclass
 class MobilePlot:
     """What a mobile run's plot shows (map frame, m)."""
@@ -56,6 +70,7 @@ class MobilePlot:
     min_clearance_at: Point | None = None
     footprints: list[list[Point]] = field(default_factory=list)
     """The robot's footprint (its outline, map frame) at the start and at the end."""
+    zones: list[ZoneImage] = field(default_factory=list)
 
 
 @dataclass

@@ -1,7 +1,8 @@
 """The run's ``plot.png``: the world from above with the driven path, or the arm's tool path.
 
-A mobile run shows the floor, static and spawned obstacles, the inflated global costmap when
-navigation ran, planned paths, the driven trajectory coloured by sim time, where the clearance
+A mobile run shows the floor (a map_server map's image on it), static and spawned obstacles,
+the inflated global costmap when navigation ran, the costmap filter zones (keepout, speed
+limits), planned paths, the driven trajectory coloured by sim time, where the clearance
 was smallest, Bug2's hit and leave points, goals and named locations. An arm run shows the
 tool path coloured by sim time with the impedance set-point it followed and the objects' paths
 in 3D, next to the tracking error (tool to set-point) over time. matplotlib (Agg) is imported
@@ -18,7 +19,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
+from baobab.missions.run.plot_data import (
+    ArmPlot,
+    CostmapImage,
+    MobilePlot,
+    PlotData,
+    ZoneImage,
+)
 from baobab.sim.world import World
 
 if TYPE_CHECKING:
@@ -38,6 +45,10 @@ PNG_COMPRESSION = 3
 COSTMAP_CMAP = "Purples"
 COSTMAP_ALPHA = 0.45
 OBSTACLE_EDGE = (0.2, 0.2, 0.2)
+MAP_UNKNOWN_SHADE = 0.8
+"""Grey of a map's unknown cells (0 black, 1 white), as map_server saves them (205 of 255)."""
+KEEPOUT_COLOUR = "crimson"
+ZONE_ALPHA = 0.35
 
 
 def load_plotting() -> None:
@@ -113,8 +124,10 @@ def _mobile(axes: Axes, data: MobilePlot) -> None:
     halo = [patheffects.withStroke(linewidth=2.5, foreground="white")]
     x_min, y_min, x_max, y_max = data.world.bounds
     _floor(axes, data.world)
+    _map_image(axes, data.world)
     if data.costmap is not None:
         _costmap(axes, data.costmap, (x_min, y_min))
+    _zones(axes, data.zones)
     _obstacles(axes, data, halo)
     _planned_paths(axes, data.planned_paths)
     if len(data.xs) > 1:
@@ -141,6 +154,66 @@ def _floor(axes: Axes, world: World) -> None:
     axes.add_patch(
         Rectangle((x_min, y_min), x_max - x_min, y_max - y_min, color=floor_colour, zorder=0)
     )
+
+
+def _map_image(axes: Axes, world: World) -> None:
+    """The map_server map under everything, grey as its image: free white, occupied black,
+    unknown grey."""
+    grid = world.grid
+    if grid is None:
+        return
+    values = grid.data.astype(np.float32)
+    shade = np.where(values < 0, MAP_UNKNOWN_SHADE, 1.0 - values / 100.0)
+    x0, y0, x1, y1 = grid.bounds
+    axes.imshow(
+        shade,
+        origin="lower",
+        extent=(x0, x1, y0, y1),
+        cmap="gray",
+        vmin=0.0,
+        vmax=1.0,
+        zorder=0.5,
+        interpolation="nearest",
+        interpolation_stage="data",
+    )
+
+
+def _zones(axes: Axes, zones: Sequence[ZoneImage]) -> None:
+    """Costmap filter zones: keepout zones hatched red, speed limits orange (darker: slower)."""
+    import matplotlib
+    from matplotlib.colors import ListedColormap, NoNorm
+    from matplotlib.patches import Rectangle
+
+    limits = sum(not zone.keepout for zone in zones)
+    slower = 0  # the speed zones come slowest first
+    for zone in zones:
+        if zone.keepout:
+            colour: Any = KEEPOUT_COLOUR
+        else:
+            colour = matplotlib.colormaps["Oranges"](0.65 - 0.4 * slower / max(limits - 1, 1))
+            slower += 1
+        height, width = zone.cells.shape
+        table = np.zeros((2, 4))
+        table[1] = matplotlib.colors.to_rgba(colour, ZONE_ALPHA)
+        x0, y0 = zone.origin
+        axes.imshow(
+            zone.cells.astype(np.uint8),
+            origin="lower",
+            extent=(x0, x0 + width * zone.resolution, y0, y0 + height * zone.resolution),
+            cmap=ListedColormap(table),
+            norm=NoNorm(),
+            zorder=1.5,
+            interpolation="nearest",
+            interpolation_stage="data",
+        )
+        rows, cols = np.nonzero(zone.cells)
+        if len(rows):
+            corner = (x0 + cols.min() * zone.resolution, y0 + rows.min() * zone.resolution)
+            legend_only = Rectangle(corner, 0, 0, color=colour, alpha=ZONE_ALPHA)
+            if zone.keepout:
+                legend_only.set_hatch("//")
+            legend_only.set_label(zone.label)
+            axes.add_patch(legend_only)
 
 
 def _costmap(axes: Axes, image: CostmapImage, corner: tuple[float, float]) -> None:

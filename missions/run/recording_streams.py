@@ -9,7 +9,10 @@ impedance controllers of ROS arms publish:
   (the lidar's rate), the robot's geoms and its footprint (the outline the navigation stack
   checks, in ``base_link``) on ``/robot/scene`` at 5 Hz, and at 1 Hz the global
   costmap, ``/followed_path`` and the world scene (obstacles, spawned obstacles, named
-  locations; republished so that a live client that joins late sees it).
+  locations; republished so that a live client that joins late sees it). On a map: ``/map``
+  and the filter masks (``/keepout_filter_mask``, ``/speed_filter_mask``) as Grids of their
+  occupancy values (int8, -1 unknown) at the start and every :data:`MAP_PERIOD`, latched;
+  each new speed limit on ``/speed_limit`` (looked at 20 Hz).
 - an arm: the three ``/cartesian_impedance/*`` poses (TCP, set-point, filtered reference, in
   the arm's base frame) and ``/joint_states`` at 100 Hz, the scene (arm, table, objects) at
   20 Hz, and the transform world -> base frame on ``/tf_static`` at 1 Hz: latched for live
@@ -32,7 +35,7 @@ import math
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from baobab.missions.run.recording_topics import Topics
+from baobab.missions.run.recording_topics import SPEED_LIMIT_SCHEMA, Topics
 from baobab.missions.run.rig import ArmRig, MobileRig
 from baobab.sim.lidar import LaserScan
 from baobab.sim.recording import Recorder, Trail, Transform
@@ -46,6 +49,8 @@ ROBOT_SCENE_PERIOD = 0.2
 """/robot/scene (s): 5 Hz."""
 SLOW_PERIOD = 1.0
 """Costmap, followed path, world scene, the arm's base transform (s): 1 Hz."""
+MAP_PERIOD = 10.0
+"""The map and the filter masks (s): they do not change, and a big map is megabytes."""
 ARM_STATE_PERIOD = 0.01
 """Impedance poses and joint states (s): 100 Hz."""
 ARM_SCENE_PERIOD = 0.05
@@ -96,11 +101,24 @@ class MobileStreams(Streams):
             "footprint", "base_link", outlines=(Outline(outline, FOOTPRINT_COLOUR),)
         )
         sim = rig.sim
+        self._speed_limit: object = None
         self._handles = [
             sim.every(MOBILE_FAST_PERIOD, self._fast, name="record pose"),
             sim.every(ROBOT_SCENE_PERIOD, self._robot, name="record robot scene"),
             sim.every(SLOW_PERIOD, self._slow, name="record map"),
         ]
+        masks = rig.world.masks
+        self._grids = [
+            (topic, grid)
+            for topic, grid in (
+                (Topics.MAP, masks.grid),
+                (Topics.KEEPOUT_MASK, masks.keepout),
+                (Topics.SPEED_MASK, masks.speed),
+            )
+            if grid is not None
+        ]
+        if self._grids:
+            self._handles.append(sim.every(MAP_PERIOD, self._maps, name="record map files"))
         rig.robot.lidar.subscribe(self._scan)
 
     def close(self) -> None:
@@ -130,6 +148,29 @@ class MobileStreams(Streams):
             self._plan = path
             poses = np.empty((0, 3)) if path is None else path.poses
             recorder.log_path(Topics.PLAN, t, poses)
+        self._log_speed_limit(t)
+
+    def _maps(self, t: float) -> None:
+        for topic, grid in self._grids:
+            self.recorder.log_grid(
+                topic,
+                t,
+                grid.data,
+                resolution=grid.resolution,
+                origin=grid.origin,
+                field="occupancy",
+                latched=True,
+            )
+
+    def _log_speed_limit(self, t: float) -> None:
+        navigation = self.rig.navigation
+        speed_filter = None if navigation is None else navigation.speed_filter
+        limit = None if speed_filter is None else speed_filter.current
+        if limit is None or limit is self._speed_limit:
+            return
+        self._speed_limit = limit
+        payload = {"percentage": limit.percentage, "speed_limit": limit.speed_limit}
+        self.recorder.log_json(Topics.SPEED_LIMIT, t, payload, schema=SPEED_LIMIT_SCHEMA)
 
     def _robot(self, t: float) -> None:
         data = self.rig.sim.data

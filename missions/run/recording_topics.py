@@ -22,6 +22,13 @@ class Topics:
     PLAN = "/plan"
     FOLLOWED_PATH = "/followed_path"
     GLOBAL_COSTMAP = "/global_costmap/costmap"
+    MAP = "/map"
+    """The map_server map a world stands on (occupancy values, -1 unknown)."""
+    KEEPOUT_MASK = "/keepout_filter_mask"
+    SPEED_MASK = "/speed_filter_mask"
+    """Nav2's costmap filter masks, as nav2_bringup's filter mask servers name them."""
+    SPEED_LIMIT = "/speed_limit"
+    """Each new limit the speed filter gives the controller (``nav2_msgs/SpeedLimit``)."""
     WORLD_SCENE = "/world/scene"
     """Static obstacles, movable obstacles and named locations."""
     ROBOT_SCENE = "/robot/scene"
@@ -59,6 +66,19 @@ TREE_STATUS_SCHEMA = JsonSchema(
 )
 """Suggested payload: ``{"tick": n, "root_status": "RUNNING", "nodes": [{"path", "name",
 "type", "status"}, ...]}`` with nodes in depth-first order."""
+
+SPEED_LIMIT_SCHEMA = JsonSchema(
+    "nav2_msgs.SpeedLimit",
+    {
+        "type": "object",
+        "properties": {
+            "percentage": {"type": "boolean"},
+            "speed_limit": {"type": "number"},
+        },
+    },
+)
+"""``{"percentage": true, "speed_limit": 50.0}``: percent of the top speed, or m/s; 0 means
+no limit."""
 
 TASK_FEEDBACK_SCHEMA = JsonSchema(
     "baobab.TaskFeedback",

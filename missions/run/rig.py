@@ -27,6 +27,7 @@ from baobab.missions.run.event_targets import ObstacleSlots, TeleopChannel
 from baobab.missions.run.metrics import MetricRegistry, register_teleop_metrics
 from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.missions.run.plot_data import ArmPlot, CostmapImage, MobilePlot, PlotData
+from baobab.missions.run.zone_probe import ZoneProbe
 from baobab.robots.catalog import RobotInfo
 from baobab.robots.diff_drive.controller_tasks import BaseControllerServer
 from baobab.robots.diff_drive.robot import MobileRobot
@@ -229,9 +230,13 @@ class MobileRig:
         }
         self.locations = locations
         self.probe = MobileProbe(sim, self.robot.base, locations)
+        self.zones = ZoneProbe(
+            sim, self.robot.base, world, mission.robot.footprint_radius, self._top_speed()
+        )
         self.metrics = MetricRegistry()
         self.metrics.add("sim_time", lambda: sim.time, unit="s", description="run length")
         self.probe.register(self.metrics)
+        self.zones.register(self.metrics)
         self.metrics.add(
             "number_of_recoveries",
             self._recoveries,
@@ -256,6 +261,13 @@ class MobileRig:
         register_teleop_metrics(
             self.metrics, lambda: None if self.navigation is None else self.navigation.teleop_stats
         )
+
+    def _top_speed(self) -> float:
+        """The speed (m/s) a speed limit in percent is a part of: the controller's
+        ``desired_linear_vel``, or the robot's top speed without navigation."""
+        if self.navigation is not None:
+            return self.navigation.follower.controller.params.desired_linear_vel
+        return self.mission.robot.max_linear_speed
 
     def _recoveries(self) -> int:
         return 0 if self.navigation is None else self.navigation.metrics.number_of_recoveries
@@ -303,6 +315,7 @@ class MobileRig:
             leave_points=list(bug2.leave_points) if bug2 else [],
             min_clearance_at=None if clearance_at is None else clearance_at[1:],
             footprints=[self._footprint_at(*probe.start), self._footprint_at(*self._pose())],
+            zones=self.zones.zone_images(),
         )
         self._navigation_layers(plot)
         return plot

@@ -20,7 +20,7 @@ from baobab.robots.diff_drive.base_kernel import LOOP_WORDS, WORD, base_loops
 from baobab.robots.diff_drive.clearance_bounds import ClearanceBounds
 from baobab.robots.diff_drive.facts import DiffDriveFacts
 from baobab.robots.diff_drive.names import OBSTACLE_GROUPS, DiffDriveNames
-from baobab.sim.builder import FLOOR_GROUP
+from baobab.sim.builder import FLOOR_GROUP, MAP_WALL_MATERIAL
 from baobab.sim.errors import SimulationError
 from baobab.sim.simulation import Simulation
 from baobab.sim.world import Pose2D
@@ -294,21 +294,8 @@ class DiffDriveBase:
                 the model lacks the robot's contact sensors (:func:`.model.attach_robot`).
         """
         sim, model, loop = self._sim, self._sim.model, self._loop
-        obstacles = [
-            model.geom(index).name
-            for index in range(model.ngeom)
-            if model.geom_group[index] in OBSTACLE_GROUPS
-        ]
-        addresses = []
-        for name in obstacles:
-            try:
-                addresses.append(int(model.sensor(self.names.touch_sensor(name)).adr[0]))
-            except KeyError:
-                raise SimulationError(f"the model has no contact sensor for '{name}'") from None
-        first = addresses[0] if addresses else 0
-        if addresses != list(range(first, first + len(addresses))):
-            raise SimulationError("the robot's contact sensors are not consecutive")
-        touched = np.zeros(len(obstacles))
+        first, obstacles, on_world_body, map_sensor = self._contact_sensors(model)
+        touched = np.zeros(len(obstacles) + (map_sensor >= 0))
         pose_steps = sim.steps_for(pose_period, what="pose sampling period")
         contact_steps = sim.steps_for(contact_period, what="contact sampling period")
         if pose_steps <= 0 or contact_steps <= 0:
@@ -316,14 +303,47 @@ class DiffDriveBase:
         capacity = 2 * (sim.steps_for(drain_period, what="drain period") // pose_steps + 2)
         poses = np.zeros((capacity, 3))
         loop["contact_sensor"], loop["contact_sensors"] = first, len(obstacles)
+        loop["contact_world_sensors"], loop["contact_map_sensor"] = on_world_body, map_sensor
         loop["contact_address"] = touched.ctypes.data
         loop["contact_samples"] = 0
         loop["pose_capacity"], loop["pose_address"] = capacity, poses.ctypes.data
         loop["pose_count"] = loop["pose_overflow"] = 0
         loop["pose_next_step"] = loop["contact_next_step"] = sim.step_count
         loop["pose_period_steps"], loop["contact_period_steps"] = pose_steps, contact_steps
-        self._probe = BaseProbe(loop, obstacles, touched, poses)
+        names = obstacles + [MAP_WALL_MATERIAL] if map_sensor >= 0 else obstacles
+        self._probe = BaseProbe(loop, names, touched, poses)
         return self._probe
+
+    def _contact_sensors(self, model: mujoco.MjModel) -> tuple[int, list[str], int, int]:
+        """The sensordata address of the first contact sensor, the obstacle geoms with a
+        sensor each (in model order: the world body's first), how many of them are the world
+        body's, and the address of the map's two sensors (-1 without a map); see
+        :func:`.model.attach_robot`.
+
+        Raises:
+            SimulationError: a sensor is missing or the sensors are not consecutive.
+        """
+        walls = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_MATERIAL, MAP_WALL_MATERIAL)
+        wanted = np.isin(model.geom_group, OBSTACLE_GROUPS)
+        if walls >= 0:
+            wanted &= model.geom_matid != walls
+        geoms = np.flatnonzero(wanted)
+        obstacles = [model.geom(int(index)).name for index in geoms]
+        sensors = [self.names.touch_sensor(name) for name in obstacles]
+        if walls >= 0:
+            sensors += list(self.names.map_contact_sensors)
+        try:
+            addresses = [int(model.sensor(name).adr[0]) for name in sensors]
+        except KeyError as exc:
+            raise SimulationError(f"the model has no contact sensor {exc}") from None
+        first = addresses[0] if addresses else 0
+        if addresses != list(range(first, first + len(addresses))):
+            raise SimulationError("the robot's contact sensors are not consecutive")
+        on_world_body = int((model.geom_bodyid[geoms] == 0).sum())
+        if not (model.geom_bodyid[geoms[:on_world_body]] == 0).all():
+            raise SimulationError("the world body's obstacles do not come first")
+        map_sensor = addresses[-2] if walls >= 0 else -1
+        return first, obstacles, on_world_body, map_sensor
 
 
 class BaseProbe:

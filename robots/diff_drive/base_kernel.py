@@ -6,7 +6,8 @@ robot; the records of one simulation form one array, run by :func:`base_kernel` 
 ramps the commanded body velocity toward ``cmd_vel`` within the acceleration limits, writes
 the two wheel velocity targets and integrates wheel odometry from the encoder angles. An
 optional probe (the mission metrics) samples, at its own periods, whether the robot touches
-an obstacle (from one MuJoCo contact sensor per obstacle geom) and the ground-truth position.
+an obstacle (from one MuJoCo contact sensor per obstacle geom, two for all of a map's walls)
+and the ground-truth position.
 
 Compiled so that the 100 Hz tick wakes no Python: the simulation steps the physics in one
 ``mj_step`` batch up to the next Python callback, and a Python tick would cut every batch
@@ -81,8 +82,10 @@ BASE_LOOP = np.dtype(
         ("contact_next_step", np.int64),
         ("contact_samples", np.int64),  # samples with a robot-obstacle contact
         ("contact_sensor", np.int64),  # sensordata address of the first obstacle's sensor
-        ("contact_sensors", np.int64),  # one per obstacle geom
-        ("contact_address", np.int64),  # float64[contact_sensors]: 1 once touched
+        ("contact_sensors", np.int64),  # one per obstacle geom but a map's walls
+        ("contact_world_sensors", np.int64),  # the first ones, of the world body's geoms
+        ("contact_map_sensor", np.int64),  # address of the floor's, then the world body's; or -1
+        ("contact_address", np.int64),  # float64[contact_sensors (+ 1 with a map)]: 1 once touched
         ("pose_period_steps", np.int64),
         ("pose_next_step", np.int64),
         ("pose_count", np.int64),  # samples in the buffer, drained by Python
@@ -141,15 +144,30 @@ def _control_tick(loop: Loop, qpos: np.ndarray, ctrl: np.ndarray, time: float) -
 
 @numba.njit(cache=True, nogil=True)
 def _sample_contacts(loop: Loop) -> None:
-    """Count a sample if any obstacle's contact sensor reads a contact; flag those touched."""
+    """Count a sample if any obstacle's contact sensor reads a contact; flag those touched.
+
+    A map's walls are the last entry: the robot touches them when the world body's sensor
+    counts more contacts than the floor's and the world file's obstacles' sensors together
+    (each sensor reads the number of contacts it matches).
+    """
     count = loop.contact_sensors
     sensordata = numba.carray(pointer(loop.sensordata_address), (loop.nsensordata,), np.float64)
-    touched = numba.carray(pointer(loop.contact_address), (count,), np.float64)
+    with_map = loop.contact_map_sensor >= 0
+    touched = numba.carray(pointer(loop.contact_address), (count + with_map,), np.float64)
     first = loop.contact_sensor
     any_touched = False
+    world_geoms = 0.0
     for index in range(count):
-        if sensordata[first + index] > 0.0:
+        found = sensordata[first + index]
+        if index < loop.contact_world_sensors:
+            world_geoms += found
+        if found > 0.0:
             touched[index] = 1.0
+            any_touched = True
+    if with_map:
+        floor = sensordata[loop.contact_map_sensor]
+        if sensordata[loop.contact_map_sensor + 1] - floor - world_geoms > 0.0:
+            touched[count] = 1.0
             any_touched = True
     if any_touched:
         loop.contact_samples += 1

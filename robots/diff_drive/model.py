@@ -21,8 +21,8 @@ import mujoco
 
 from baobab.robots.diff_drive.facts import LIDAR_HALF_HEIGHT, DiffDriveFacts
 from baobab.robots.diff_drive.names import OBSTACLE_GROUPS, DiffDriveNames
-from baobab.sim.builder import ROBOT_GROUP
-from baobab.sim.world import Pose2D
+from baobab.sim.builder import MAP_WALL_MATERIAL, ROBOT_GROUP
+from baobab.sim.world import FLOOR_NAME, Pose2D
 
 CONTACT_FOUND = 1
 """A contact sensor's ``data="found"`` bit: the number of matching contacts."""
@@ -253,17 +253,27 @@ def attach_robot(
 ) -> DiffDriveNames:
     """Attach the stand-alone ``robot`` spec to the world ``spec`` with ``base_link`` at
     ``pose`` (map frame), every name prefixed with ``prefix``, and one contact sensor per
-    obstacle geom of the world; the returned object spells the names."""
+    obstacle geom of the world (two for all of a map's walls); the returned object spells the
+    names."""
     frame = spec.worldbody.add_frame(pos=[pose.x, pose.y, 0.0], quat=wxyz_about_z(pose.yaw))
-    obstacles = [geom.name for geom in spec.geoms if geom.group in OBSTACLE_GROUPS]
+    obstacles = [geom for geom in spec.geoms if geom.group in OBSTACLE_GROUPS]
+    named = [geom.name for geom in obstacles if geom.material != MAP_WALL_MATERIAL]
+    has_map = len(named) < len(obstacles)
     frame.attach_body(robot.body("base_link"), prefix, "")
     names = DiffDriveNames(prefix)
-    for obstacle in obstacles:
+    targets = [(mujoco.mjtObj.mjOBJ_GEOM, name, names.touch_sensor(name)) for name in named]
+    if has_map:
+        # A map has thousands of boxes, and MuJoCo matches every contact sensor against every
+        # contact at each step: two sensors count them all instead (map_contact_sensors).
+        floor_sensor, world_sensor = names.map_contact_sensors
+        targets.append((mujoco.mjtObj.mjOBJ_GEOM, FLOOR_NAME, floor_sensor))
+        targets.append((mujoco.mjtObj.mjOBJ_BODY, "world", world_sensor))
+    for kind, target, sensor in targets:
         spec.add_sensor(
-            name=names.touch_sensor(obstacle),
+            name=sensor,
             type=mujoco.mjtSensor.mjSENS_CONTACT,
-            objtype=mujoco.mjtObj.mjOBJ_GEOM,
-            objname=obstacle,
+            objtype=kind,
+            objname=target,
             reftype=mujoco.mjtObj.mjOBJ_XBODY,
             refname=names.body,
             intprm=[CONTACT_FOUND, 0, 1],

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from baobab.sim.builder import MOVABLE_GROUP, STATIC_GROUP
+from baobab.sim.world import FLOOR_NAME
 
 OBSTACLE_GROUPS = (STATIC_GROUP, MOVABLE_GROUP)
 """Geom groups of the world's obstacles: a contact with one of them is a collision."""
@@ -54,3 +55,11 @@ class DiffDriveNames:
     def touch_sensor(self, obstacle: str) -> str:
         """The contact sensor that counts the robot's contacts with the geom ``obstacle``."""
         return f"{self.prefix}touch/{obstacle}"
+
+    @property
+    def map_contact_sensors(self) -> tuple[str, str]:
+        """On a world with a map, the sensors that count the robot's contacts with the floor
+        and with any geom of the world body, in that order: the world body's count less the
+        floor's and the world file's obstacles' (each has its own sensor) is the robot's
+        contacts with the map's walls."""
+        return (f"{self.prefix}touch_map/{FLOOR_NAME}", f"{self.prefix}touch_map/world")
