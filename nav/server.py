@@ -46,14 +46,14 @@ from baobab.nav.behaviors import (
 )
 from baobab.nav.controller_server import ControllerParams, FollowPathTask, PathFollower
 from baobab.nav.costmap import Costmap2D
-from baobab.nav.costmap_filters import KeepoutParams, keepout_filter, speed_filter
+from baobab.nav.costmap_filters import KeepoutParams, speed_filter
 from baobab.nav.costmap_updates import CostmapUpdates
 from baobab.nav.errors import NavigationError, SmoothPathError
 from baobab.nav.footprint import collision_mask
 from baobab.nav.interfaces import ActionServer, MobileBase, ScanSource, ServerTask
-from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
-from baobab.nav.layers import StaticLayer
+from baobab.nav.layered_costmap import CostmapParams
 from baobab.nav.navigate import NavigateTask, NavigationMetrics, NavigatorParams
+from baobab.nav.navigation_costmaps import navigation_costmaps
 from baobab.nav.path import Path
 from baobab.nav.planner import GlobalPlanner, PlannerParams
 from baobab.nav.smoother import SimpleSmoother
@@ -110,26 +110,13 @@ class NavigationServer:
         self.sim = sim
         self.base = base
         self.world = world
-        static = StaticLayer(world, p.global_costmap.resolution, params=p.global_costmap.static)
-        local_static = (
-            static
-            if p.local_costmap.resolution == p.global_costmap.resolution
-            and p.local_costmap.static == p.global_costmap.static
-            else StaticLayer(world, p.local_costmap.resolution, params=p.local_costmap.static)
-        )
-        self.global_layers = LayeredCostmap.global_costmap(
-            world,
-            p.global_costmap,
-            static,
-            keepout_filter(world, static, p.global_costmap.inflation, p.keepout),
-        )
-        self.local_layers = LayeredCostmap.local_costmap(
+        self.global_layers, self.local_layers = navigation_costmaps(
             world,
             base.pose(),
+            p.global_costmap,
             p.local_costmap,
             p.local_costmap_size,
-            local_static,
-            keepout_filter(world, local_static, p.local_costmap.inflation, p.keepout),
+            p.keepout,
         )
         self.speed_filter = speed_filter(world)
         self.planner = GlobalPlanner(p.planner, p.smoother)

@@ -19,7 +19,13 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from baobab.sim.point_clearance import box_distance_at, cylinder_distance_at, obstacle_distances_at
+from baobab.sim.point_clearance import (
+    MAP_WALLS,
+    box_distance_at,
+    cylinder_distance_at,
+    map_distance_at,
+    obstacle_distances_at,
+)
 from baobab.sim.world import Box, Cylinder, Pose2D, World
 
 NAV2_FOOTPRINT_PADDING = 0.01
@@ -243,7 +249,43 @@ def _polygon_nearest(world: World, polygon: Sequence[Point]) -> tuple[str, float
     obstacles: list[Box | Cylinder] = [*world.boxes, *world.cylinders]
     distances = [(obstacle.name, _polygon_distance(polygon, obstacle)) for obstacle in obstacles]
     distances.append((FLOOR_EDGE, min(_floor_edge_distance(world, point) for point in polygon)))
+    walls = _polygon_map_distance(world, polygon)
+    if walls is not None:
+        distances.append((MAP_WALLS, walls))
     return min(distances, key=lambda item: item[1])
+
+
+def _polygon_map_distance(world: World, polygon: Sequence[Point]) -> float | None:
+    """Distance (m) between a polygon and the map's solid cells (None without a map): exact
+    (cell squares as boxes) where a cell lies within the polygon's circumcircle, else the
+    centre's distance less the circumradius, a lower bound that is positive."""
+    cx = sum(x for x, _ in polygon) / len(polygon)
+    cy = sum(y for _, y in polygon) / len(polygon)
+    centre = map_distance_at(world, cx, cy)
+    grid, solid = world.grid, world.map_solid()
+    if centre is None or grid is None or solid is None:
+        return None
+    reach = max(math.hypot(x - cx, y - cy) for x, y in polygon)
+    if centre >= reach:
+        return centre - reach
+    (x0, y0), step = grid.origin, grid.resolution
+    low_x, low_y = (
+        max(math.floor((cx - reach - x0) / step), 0),
+        max(math.floor((cy - reach - y0) / step), 0),
+    )
+    rows, cols = solid[
+        low_y : math.ceil((cy + reach - y0) / step) + 1,
+        low_x : math.ceil((cx + reach - x0) / step) + 1,
+    ].nonzero()
+    cells = [
+        Box(
+            name=MAP_WALLS,
+            center=(x0 + (low_x + col + 0.5) * step, y0 + (low_y + row + 0.5) * step),
+            size=(step, step),
+        )
+        for row, col in zip(rows.tolist(), cols.tolist(), strict=True)
+    ]
+    return min(_polygon_distance(polygon, cell) for cell in cells) if cells else centre - reach
 
 
 def _floor_edge_distance(world: World, point: Point) -> float:

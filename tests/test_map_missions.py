@@ -156,3 +156,32 @@ def test_teleop_on_a_map_checks_its_start_before_the_terminal(
     assert len(err) == 1 and "--start (0.020, 1.000) is not free in world 'room'" in err[0]
     assert main(["teleop", "--world", str(room)]) == 2
     assert "the map origin (0, 0) is not free" in capsys.readouterr().err
+
+
+def test_a_broken_map_is_one_located_line_for_every_command(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    room = write_map(tmp_path, room_pixels(*ROOM), name="room")
+    broken = tmp_path / "broken.yaml"
+    broken.write_text(room.read_text().replace("resolution: 0.05", "resolution: -0.05"))
+    mission = _mission(tmp_path).read_text().replace("./room.yaml", "./broken.yaml")
+    (tmp_path / "across.yaml").write_text(mission)
+    script = tmp_path / "never_runs.py"
+    script.write_text("print('ran')\n", encoding="utf-8")
+    out = tmp_path / "run"
+    commands = [
+        ["validate", str(tmp_path / "across.yaml")],
+        ["run", str(tmp_path / "across.yaml"), "--out", str(out)],
+        ["run", "walls_go_to_goal", "--world", str(broken), "--out", str(out)],
+        ["nav2", str(script), "--world", str(broken)],
+        ["teleop", "--world", str(broken)],
+    ]
+    for command in commands:
+        assert main(command) == 2, command
+        captured = capsys.readouterr()
+        err = captured.err.splitlines()
+        assert len(err) == 1 and err[0].endswith(
+            "broken.yaml:2:1: resolution: Input should be greater than 0"
+        ), err
+        assert "ran" not in captured.out
+        assert not out.exists()

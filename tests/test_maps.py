@@ -14,6 +14,7 @@ from baobab.nav.costmap import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
 from baobab.nav.layers import InflationLayer, StaticLayer
 from baobab.nav.static_map import StaticLayerParams, map_costs
+from baobab.robots.footprint import Footprint
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim.builder import STATIC_GROUP, world_spec
 from baobab.sim.geometry import nearest_obstacle
@@ -138,6 +139,15 @@ def test_start_poses_are_checked_against_the_map_walls(tmp_path: Path) -> None:
     assert name == MAP_WALLS
     assert distance == pytest.approx(0.4)  # the west wall's inner face is at x = 0.10
     assert nearest_obstacle(world, 0.05, 1.0)[1] < 0
+
+
+def test_a_polygon_footprint_is_checked_against_the_map_walls(tmp_path: Path) -> None:
+    world = load_world(write_map(tmp_path, room_pixels(60, 40)))  # west wall's face at x = 0.1
+    long = Footprint.rectangle(-0.3, 0.3, -0.05, 0.05)
+    name, clearance = long.clearance_in(world, Pose2D(x=0.35, y=1.0))  # back edge at x = 0.05
+    assert name == MAP_WALLS and clearance < 0
+    name, clearance = long.clearance_in(world, Pose2D(x=0.35, y=1.0, yaw=np.pi / 2))
+    assert name == MAP_WALLS and clearance == pytest.approx(0.2)  # its circle would not fit
 
 
 def test_the_static_costmap_is_the_map_as_nav2s_static_layer_reads_it() -> None:
