@@ -19,10 +19,9 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from baobab.sim.planar_shapes import circle_distance_at, rectangle_distance_at
 from baobab.sim.point_clearance import (
     MAP_WALLS,
-    box_distance_at,
-    cylinder_distance_at,
     map_distance_at,
     obstacle_distances_at,
 )
@@ -226,7 +225,7 @@ def _obstacle_outline(obstacle: Box | Cylinder) -> list[Point]:
 def _polygon_distance(polygon: Sequence[Point], obstacle: Box | Cylinder) -> float:
     """Distance (m) between a polygon and an obstacle's outline; negative when they overlap
     (as deep as the polygon's deepest vertex inside it, at least 1e-9)."""
-    signed = box_distance_at if isinstance(obstacle, Box) else cylinder_distance_at
+    signed = rectangle_distance_at if isinstance(obstacle, Box) else circle_distance_at
     deepest = min(signed(x, y, obstacle) for x, y in polygon)  # type: ignore[arg-type]
     if deepest <= 0.0:
         return min(deepest, -1e-9)

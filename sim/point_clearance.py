@@ -7,28 +7,8 @@ checking the poses of a mission (``baobab validate``) does not pay numpy's impor
 
 from __future__ import annotations
 
-import math
-
-from baobab.sim.world import Box, Cylinder, World
-
-
-def box_distance_at(x: float, y: float, box: Box) -> float:
-    """Signed distance (m) from (x, y) (m) to the outline of ``box``."""
-    px, py = x - box.center[0], y - box.center[1]
-    cos, sin = math.cos(box.yaw), math.sin(box.yaw)
-    # Rotate into the box frame by -yaw.
-    local_x, local_y = cos * px + sin * py, -sin * px + cos * py
-    excess_x = abs(local_x) - box.size[0] / 2
-    excess_y = abs(local_y) - box.size[1] / 2
-    outside = math.sqrt(max(excess_x, 0.0) ** 2 + max(excess_y, 0.0) ** 2)
-    inside = min(max(excess_x, excess_y), 0.0)
-    return outside + inside
-
-
-def cylinder_distance_at(x: float, y: float, cylinder: Cylinder) -> float:
-    """Signed distance (m) from (x, y) (m) to the circle of ``cylinder``."""
-    px, py = x - cylinder.center[0], y - cylinder.center[1]
-    return math.sqrt(px * px + py * py) - cylinder.radius
+from baobab.sim.planar_shapes import circle_distance_at, rectangle_distance_at
+from baobab.sim.world import World
 
 
 def obstacle_distances_at(world: World, x: float, y: float) -> list[tuple[str, float]]:
@@ -36,8 +16,8 @@ def obstacle_distances_at(world: World, x: float, y: float) -> list[tuple[str, f
     cylinders, then the map's solid cells (named :data:`MAP_WALLS`) on a world that stands on a
     map."""
     boxes = [*world.boxes, *world.dock_boxes]
-    distances = [(box.name, box_distance_at(x, y, box)) for box in boxes]
-    distances += [(cyl.name, cylinder_distance_at(x, y, cyl)) for cyl in world.cylinders]
+    distances = [(box.name, rectangle_distance_at(x, y, box)) for box in boxes]
+    distances += [(cyl.name, circle_distance_at(x, y, cyl)) for cyl in world.cylinders]
     distance = map_distance_at(world, x, y)
     if distance is not None:
         distances.append((MAP_WALLS, distance))
