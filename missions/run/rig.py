@@ -355,7 +355,7 @@ class MobileRig:
             description="paths planned after a goal's first",
         )
         reroutes = "routes planned again round blocked route graph edges"
-        self.metrics.add("route_reroutes", self._reroutes, description=reroutes)
+        metrics.add("route_reroutes", self._reroutes, description=reroutes)
         register_teleop_metrics(
             metrics, lambda: None if self.navigation is None else self.navigation.teleop_stats
         )
