@@ -176,3 +176,44 @@ def test_run_exits_2_with_the_files_line_for_a_bad_polygon(
     mission_path.write_text(MISSION.format(extra="nav2_params: ./nav2_params.yaml"))
     assert main(["run", str(mission_path)]) == 2
     assert f"{params}:11:7: collision_monitor.PolygonStop.points" in capsys.readouterr().err
+
+
+def test_the_file_overrides_its_worlds_block_and_the_mission_the_file(tmp_path: Path) -> None:
+    world = (Path(__file__).parents[1] / "sim" / "worlds" / "walls.yaml").read_text()
+    (tmp_path / "room.yaml").write_text(
+        world
+        + "collision_monitor:\n"
+        + "  polygons: [PolygonStop]\n"
+        + "  PolygonStop: {type: circle, radius: 0.3, action_type: stop, min_points: 2}\n"
+        + "  observation_sources: [scan]\n"
+        + "  scan: {type: scan}\n"
+        + "  source_timeout: 1.5\n",
+        encoding="utf-8",
+    )
+    (tmp_path / "nav2_params.yaml").write_text(
+        "collision_monitor:\n  ros__parameters:\n"
+        "    source_timeout: 0.8\n    PolygonStop: {radius: 0.4, min_points: 5}\n"
+    )
+    mission_path = tmp_path / "m.yaml"
+    extra = "nav2_params: ./nav2_params.yaml\ncollision_monitor:\n  PolygonStop: {min_points: 7}"
+    mission_path.write_text(MISSION.format(extra=extra).replace("world: walls", "world: room.yaml"))
+    monitor = load_mission(mission_path).collision_monitor
+    assert monitor is not None
+    (zone,) = monitor.polygons
+    assert (zone.type, zone.radius, zone.min_points) == ("circle", 0.4, 7)
+    assert monitor.source_timeout == pytest.approx(0.8)
+
+
+def test_a_partial_files_mistake_is_located_in_the_file_not_the_world(tmp_path: Path) -> None:
+    path = tmp_path / "nav2_params.yaml"
+    path.write_text("collision_monitor:\n  ros__parameters:\n    PolygonStop: {radius: -1.0}\n")
+    with pytest.raises(Nav2ParamsError, match=r"nav2_params.yaml:3:19: .*PolygonStop.radius"):
+        BasicNavigator(world="walls", params_file=path, collision_monitor=_BLOCK)
+
+
+_BLOCK = {
+    "polygons": ["PolygonStop"],
+    "PolygonStop": {"type": "circle", "action_type": "stop"},
+    "observation_sources": ["scan"],
+    "scan": {"type": "scan"},
+}
