@@ -21,6 +21,10 @@ from dataclasses import dataclass, field
 from pathlib import Path as FilePath
 from typing import Any
 
+from baobab.nav.collision_monitor_config import parse_collision_monitor
+from baobab.nav.collision_monitor_params import CollisionMonitorConfigError
+from baobab.nav.nav2_collision_monitor import NODE as MONITOR_NODE
+from baobab.nav.nav2_collision_monitor import file_monitor_block, file_monitor_error
 from baobab.nav.nav2_filters import NavFilterMasks, apply_filters, filter_masks
 from baobab.nav.nav2_footprint import costmap_footprint
 from baobab.nav.nav2_param_rows import Mapped
@@ -205,6 +209,7 @@ def configure_navigation(
     uses = plugin_uses(file, substitute=substitute)
     for use in uses:
         _apply_plugin(builder, use)
+    _collision_monitor(builder)
     masks, used = filter_masks(file, uses)
     for parameter in used:
         builder.mark_used(parameter)
@@ -239,6 +244,37 @@ def _footprint(builder: _Builder, node: str) -> None:
 
 
 _FOOTPRINT = "the robot's outline (a polygon padded by footprint_padding)"
+
+
+def _collision_monitor(builder: _Builder) -> None:
+    """The file's ``collision_monitor`` node, each of its parameters listed as used.
+
+    A node that names its ``polygons`` and ``observation_sources`` is checked on its own here;
+    one that only changes a world's monitor, and the robot's footprint, are checked where the
+    monitor is built (the world's, the file's and the mission's layers merged).
+    """
+    block = file_monitor_block(builder.file)
+    if block is None:
+        return
+    if "polygons" in block and "observation_sources" in block:
+        try:
+            parse_collision_monitor(block)
+        except CollisionMonitorConfigError as exc:
+            raise file_monitor_error(builder.file, exc) from None
+    for parameter in builder.file.names(MONITOR_NODE):
+        builder.mark_used(parameter)
+        builder.result.settings.append(
+            Setting(
+                MONITOR_NODE,
+                parameter.name,
+                parameter.value,
+                "",
+                FILE,
+                ("collision_monitor",),
+                "Nav2's collision monitor between the stack and the base",
+                parameter.line,
+            )
+        )
 
 
 def _smoother_in_chain(builder: _Builder) -> None:

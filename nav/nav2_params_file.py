@@ -42,6 +42,7 @@ MAPPED_NODES = (
     "bt_navigator",
     "waypoint_follower",
     "velocity_smoother",
+    "collision_monitor",
 )
 """The Nav2 nodes whose parameters baobab's navigation stack reads."""
 
@@ -54,7 +55,6 @@ OTHER_NAV2_NODES = (
     "lifecycle_manager_localization",
     "lifecycle_manager_navigation",
     "robot_state_publisher",
-    "collision_monitor",
     "docking_server",
     "route_server",
     "following_server",

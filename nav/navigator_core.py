@@ -22,6 +22,7 @@ from baobab.nav.collision_monitor import CollisionMonitor
 from baobab.nav.collision_monitor_config import layered_collision_monitor, robot_footprint
 from baobab.nav.collision_monitor_params import CollisionMonitorConfigError, CollisionMonitorParams
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
+from baobab.nav.nav2_collision_monitor import file_monitor_block, file_monitor_error
 from baobab.nav.nav2_configuration import Nav2Configuration, load_nav2_params
 from baobab.nav.navigator_robot import (
     NavigatorSetupError,
@@ -81,8 +82,9 @@ class NavigatorCore(Node):
             (``--nav2-substitute``) instead of refusing the file.
         collision_monitor: Nav2's ``collision_monitor`` parameters (a mapping with Nav2's
             names, :mod:`baobab.nav.collision_monitor_params`); they override the world's
-            ``collision_monitor:`` block, parameter by parameter. With neither, the robot has
-            no collision monitor.
+            ``collision_monitor:`` block and then the parameter file's ``collision_monitor``
+            node, parameter by parameter. With none of the three, the robot has no collision
+            monitor.
 
     ``world``, ``robot``, ``start``, ``seed``, ``realtime``, ``params_file`` and
     ``nav2_substitute`` left at None take the values of
@@ -93,7 +95,8 @@ class NavigatorCore(Node):
     ``stop_on_failure: false``).
 
     Raises:
-        Nav2ParamsError: the parameter file cannot be used (located message).
+        Nav2ParamsError: the parameter file cannot be used, its collision monitor
+            parameters included (located message).
         WorldError: the world cannot be loaded (located message).
         NavigatorSetupError: an unknown robot, a start pose that is not free, or collision
             monitor parameters that are not valid.
@@ -179,16 +182,21 @@ class NavigatorCore(Node):
         return self._world_servers
 
     def _monitor_params(self, world: World, robot: RobotInfo) -> CollisionMonitorParams | None:
-        """The collision monitor of ``world``'s and the constructor's parameters.
+        """The collision monitor of ``world``'s, the parameter file's and the constructor's
+        parameters (in that order, the later winning parameter by parameter).
 
         Raises:
             NavigatorSetupError: naming the parameter that is wrong and where it was given.
+            Nav2ParamsError: a mistake in the parameter file's layer (located in the file).
         """
-        layers = [world.collision_monitor, self._monitor_parameters]
+        file = None if self.nav2_configuration is None else self.nav2_configuration.file
+        layers = [world.collision_monitor, file_monitor_block(file), self._monitor_parameters]
         try:
             return layered_collision_monitor(layers, robot_footprint(robot))
         except CollisionMonitorConfigError as exc:
-            where = (f"world '{world.name}': ", "")[exc.layer]
+            if exc.layer == 1 and file is not None:
+                raise file_monitor_error(file, exc) from None
+            where = (f"world '{world.name}': ", "", "")[exc.layer]
             raise NavigatorSetupError(where + exc.describe()) from None
 
     def _sim_seconds(self) -> float:

@@ -176,8 +176,9 @@ def load_mission(
         text = read_yaml_text(mission_path, MissionError)
     document = load_located_yaml(mission_path, MissionError, text=text)
     loader = _Loader(mission_path, document, text, registry or default_registry(), world)
+    loader.nav2_override = nav2_params
     mission = loader.load(overrides or {}, robot)
-    return _with_nav2_params(mission, nav2_params, nav2_substitute)
+    return _with_nav2_params(mission, nav2_params is not None, nav2_substitute)
 
 
 class _Loader:
@@ -194,6 +195,7 @@ class _Loader:
         self.text = text
         self.registry = registry
         self.world_override = world
+        self.nav2_override: str | Path | None = None
         self.origins: dict[KeyPath, str] = {}
 
     def _error(self, path: KeyPath, message: str) -> MissionError:
@@ -243,14 +245,21 @@ class _Loader:
         if file.filters is not None:
             world = self._filters(file.filters, world)
         nav2_params = None
-        if file.nav2_params is not None:
-            nav2_params = self._file_in_folder("nav2_params", file.nav2_params)
+        if self.nav2_override is not None:
+            nav2_params = _read_nav2(Path(self.nav2_override))
+        elif file.nav2_params is not None:
+            nav2_params = _read_nav2(self._file_in_folder("nav2_params", file.nav2_params))
         scope = MissionScope(
             robot, world, self._locations(file, robot, world), self.path.parent.resolve()
         )
         start = self._start(file.start, scope, world)
         monitor = mission_collision_monitor(
-            self.document, file.collision_monitor, robot, world, world_name, self.origins
+            self.document,
+            file.collision_monitor,
+            robot,
+            (world, world_name),
+            nav2_params,
+            self.origins,
         )
         parser = TreeParser(self.document, self.registry, scope, file.subtrees, self.origins)
         tree = parser.parse(file.tree, ("tree",))
@@ -281,7 +290,7 @@ class _Loader:
             expect=file.expect,
             document=self.document,
             noise=file.noise,
-            nav2_params=None if nav2_params is None else _read_nav2(nav2_params),
+            nav2_params=nav2_params,
             collision_monitor=monitor,
         )
 
@@ -472,20 +481,16 @@ def _read_nav2(path: Path) -> Nav2ParamsFile:
     return read_nav2_params(path)
 
 
-def _with_nav2_params(mission: Mission, override: str | Path | None, substitute: bool) -> Mission:
-    """``mission`` with ``--nav2-params`` in place of its own file, the file checked against
-    the navigation stack (types, ranges, plugins), its filter masks laid on the world and its
-    warning made."""
+def _with_nav2_params(mission: Mission, overridden: bool, substitute: bool) -> Mission:
+    """``mission`` with its Nav2 parameter file (``--nav2-params`` when ``overridden``) checked
+    against the navigation stack (types, ranges, plugins), its filter masks laid on the world
+    and its warning made."""
     params = mission.nav2_params
-    if override is not None:
-        from baobab.nav.nav2_params_file import read_nav2_params
-
-        params = read_nav2_params(override)
     if params is None:
         return mission
     if not mission.robot.mobile:
         message = f"robot '{mission.robot.name}' has no navigation stack for a Nav2 parameter file"
-        if override is not None:
+        if overridden:
             raise BaobabError(f"--nav2-params: {message}")
         raise located(mission.document, ("nav2_params",), message)
     from baobab.nav.nav2_configuration import configure_navigation
