@@ -8,11 +8,8 @@ A world may instead stand on a Nav2 map_server map (``map: ./office.yaml``): the
 rectangle is the floor, its solid cells are walls, and the boxes, cylinders, spawns and
 locations of the file come on top; a map alone has no spawn. ``filters:`` names Nav2 costmap
 filter masks (:mod:`baobab.sim.world_map`). ``load_world`` also takes a map_server YAML
-itself as a world.
-
-Optional: a ``route_graph`` (a Nav2 GeoJSON graph file next to the world file,
-:mod:`baobab.sim.route_graph_file`) and a ``datum`` placing the map on the Earth
-(:mod:`baobab.sim.datum`).
+itself as a world. Optional: a ``route_graph`` (a Nav2 GeoJSON file next to the world file,
+:mod:`baobab.sim.route_graph_file`) and a ``datum`` (:mod:`baobab.sim.datum`).
 """
 
 from __future__ import annotations
@@ -416,7 +413,6 @@ def _far_away(what: str, x: float, y: float) -> str:
     )
 
 
-BUNDLED_WORLDS = ("walls", "cafe", "farm", "town")
 _WORLDS_FOLDER = Path(__file__).parent / "worlds"
 """The bundled world files, package data next to this module (importlib.resources would add
 its own imports to every command's start-up)."""

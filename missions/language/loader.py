@@ -21,7 +21,7 @@ Order of work (each step's errors come before the next step's):
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -36,15 +36,12 @@ from baobab.missions.language.collision_monitor_block import (
 )
 from baobab.missions.language.cross_checks import MissionChecks
 from baobab.missions.language.errors import MissionError, describe_validation_error, located
+from baobab.missions.language.mission import Mission
 from baobab.missions.language.models import (
     SUBSTITUTED_SECTIONS,
     TOP_LEVEL_KEYS,
-    Event,
-    Expect,
     MissionFile,
-    Noise,
     ParamName,
-    SubtreeSpec,
 )
 from baobab.missions.language.params import (
     ParamSpec,
@@ -52,7 +49,7 @@ from baobab.missions.language.params import (
     check_no_placeholders,
     resolve_values,
 )
-from baobab.missions.language.tree_parser import Node, NodeShape, TreeParser
+from baobab.missions.language.tree_parser import TreeParser
 from baobab.robots.catalog import RobotInfo, robot_named
 from baobab.robots.robot_file import is_robot_path, load_robot, load_robot_file
 from baobab.sim.errors import BaobabError, unknown_name
@@ -70,71 +67,25 @@ from baobab.sim.yaml_source import (
 )
 
 if TYPE_CHECKING:
-    from baobab.nav.collision_monitor_params import CollisionMonitorParams
     from baobab.nav.nav2_params_file import Nav2ParamsFile
+
+PLACEHOLDER_FREE = (
+    "mission",
+    "world",
+    "robot",
+    "robots",
+    "nav2_params",
+    "seed",
+    "params",
+    "locations",
+    "filters",
+)
+"""Top-level keys where ``${...}`` is refused (parameters cannot choose them)."""
 
 SCHEMA_HEADER = "# yaml-language-server: $schema="
 """The editor comment that bundled and generated missions begin with, before the schema's
 location; optional in a mission file."""
 _PARAMS = TypeAdapter(dict[ParamName, ParamSpec])
-
-
-@dataclass(frozen=True)
-class Mission:
-    """A validated mission, ready to compile and run.
-
-    Attributes:
-        path: the mission file.
-        name: the ``mission:`` value.
-        description: free text.
-        robot: the robot's registry entry (or its robot file's).
-        supported_robots: the bundled robots the mission fits (``robots:``); None: any that
-            has the capabilities its tree needs.
-        world: the 2D world of a mobile robot; None for a fixed robot.
-        world_name: the bundled world or scene name, or the world file's resolved path.
-        start: the start pose of a mobile robot (the world's default spawn if not given).
-        seed: the seed of the run's random generator.
-        params: the value of every mission parameter after ``--set``.
-        locations: every named pose (world spawns and locations, then the mission's).
-        tree: the validated tree, subtrees expanded.
-        subtrees: the subtree declarations as written.
-        subtree_shapes: each subtree body's structure, parameters un-substituted (for export).
-        events: timed events, sorted by time (stable).
-        timeout: the run's limit (s of sim time).
-        expect: the expectations, if any.
-        document: the located YAML document (for messages about nodes).
-        noise: the run's sensor noise (off unless the file asks for it).
-        nav2_params: the Nav2 parameter file that configures the navigation stack
-            (``nav2_params:`` or ``--nav2-params``), read and checked; None without one.
-        nav2_substitute: run the stated substitutes of plugins baobab does not have.
-        nav2_warning: the one warning about the file's parameters baobab does not use.
-        collision_monitor: the robot's collision monitor (the robot's, the world's and the
-            mission's ``collision_monitor:`` blocks merged), or None without one.
-    """
-
-    path: Path
-    name: str
-    description: str
-    robot: RobotInfo
-    supported_robots: tuple[str, ...] | None
-    world: World | None
-    world_name: str
-    start: Pose2D | None
-    seed: int
-    params: dict[str, Any]
-    locations: dict[str, Pose]
-    tree: Node
-    subtrees: dict[str, SubtreeSpec]
-    subtree_shapes: dict[str, NodeShape]
-    events: tuple[Event, ...]
-    timeout: float
-    expect: Expect | None
-    document: LocatedDocument
-    noise: Noise = field(default_factory=Noise)
-    nav2_params: Nav2ParamsFile | None = None
-    nav2_substitute: bool = False
-    nav2_warning: str | None = None
-    collision_monitor: CollisionMonitorParams | None = None
 
 
 def load_mission(
@@ -205,50 +156,13 @@ class _Loader:
         data = self._top_level()
         specs = self._params(data.get("params", {}))
         values = resolve_values(specs, overrides, self.document)
-        for key in (
-            "mission",
-            "world",
-            "robot",
-            "robots",
-            "nav2_params",
-            "seed",
-            "params",
-            "locations",
-            "filters",
-        ):
-            if key in data:
-                check_no_placeholders(self.document, data[key], (key,))
-        substitution = Substitution(
-            self.document, values, {k: s.type for k, s in specs.items()}, "the mission"
-        )
-        substituted = {
-            key: substitution.apply(value, (key,)) if key in SUBSTITUTED_SECTIONS else value
-            for key, value in data.items()
-        }
-        self.origins.update(substitution.origins)
-        try:
-            file = MissionFile.model_validate(substituted)
-        except ValidationError as exc:
-            raise describe_validation_error(
-                self.document,
-                exc,
-                data=substituted,
-                base_path=(),
-                label="",
-                model=MissionFile,
-                origins=self.origins,
-                nouns={("expect",): "expectation", ("params",): "parameter"},
-            ) from None
+        file = self._validated(data, values, {k: spec.type for k, spec in specs.items()})
         robot = self._robot(file, robot_override)
         world, world_name = self._world(file.world, robot)
         world = self._route_graph(file.route_graph, world)
         if file.filters is not None:
             world = self._filters(file.filters, world)
-        nav2_params = None
-        if self.nav2_override is not None:
-            nav2_params = _read_nav2(Path(self.nav2_override))
-        elif file.nav2_params is not None:
-            nav2_params = _read_nav2(self._file_in_folder("nav2_params", file.nav2_params))
+        nav2_params = self._nav2_params(file)
         scope = MissionScope(
             robot, world, self._locations(file, robot, world), self.path.parent.resolve()
         )
@@ -293,6 +207,41 @@ class _Loader:
             nav2_params=nav2_params,
             collision_monitor=monitor,
         )
+
+    def _validated(
+        self, data: dict[str, Any], values: Mapping[str, Any], types: Mapping[str, Any]
+    ) -> MissionFile:
+        """The top level with the parameters substituted, checked against the model."""
+        for key in PLACEHOLDER_FREE:
+            if key in data:
+                check_no_placeholders(self.document, data[key], (key,))
+        substitution = Substitution(self.document, values, types, "the mission")
+        substituted = {
+            key: substitution.apply(value, (key,)) if key in SUBSTITUTED_SECTIONS else value
+            for key, value in data.items()
+        }
+        self.origins.update(substitution.origins)
+        try:
+            return MissionFile.model_validate(substituted)
+        except ValidationError as exc:
+            raise describe_validation_error(
+                self.document,
+                exc,
+                data=substituted,
+                base_path=(),
+                label="",
+                model=MissionFile,
+                origins=self.origins,
+                nouns={("expect",): "expectation", ("params",): "parameter"},
+            ) from None
+
+    def _nav2_params(self, file: MissionFile) -> Nav2ParamsFile | None:
+        """The Nav2 parameter file (``--nav2-params`` over ``nav2_params:``), or None."""
+        if self.nav2_override is not None:
+            return _read_nav2(Path(self.nav2_override))
+        if file.nav2_params is not None:
+            return _read_nav2(self._file_in_folder("nav2_params", file.nav2_params))
+        return None
 
     def _top_level(self) -> dict[str, Any]:
         data = self.document.data
