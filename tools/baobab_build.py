@@ -18,26 +18,26 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 from typing import Any
 
 from setuptools import build_meta
 from setuptools.command.build_py import build_py
 
-PRECOMPILE_REQUIRES = [
-    "py_trees>=2.3",
-    "pydantic>=2.6",
-    "pyyaml>=6",
-    "mujoco>=4.0",
-    "pin>=3.0",
-    "numpy>=1.26",
-    "scipy>=1.11",
-    "numba>=0.61",
-    "ruckig>=0.12",
-    "pillow>=10.1",
-]
-"""What running the bundled missions loads (pyproject.toml's run dependencies but the
-plotting, recording and terminal ones; Pillow reads a map world's image)."""
+PROJECT_FILE = Path(__file__).resolve().parents[1] / "pyproject.toml"
+
+
+def _run_dependencies() -> list[str]:
+    """pyproject.toml's run dependencies: what running the bundled missions may load."""
+    with PROJECT_FILE.open("rb") as file:
+        return list(tomllib.load(file)["project"]["dependencies"])
+
+
+PRECOMPILE_REQUIRES = _run_dependencies()
+"""What a wheel's build installs to run the bundled missions: all of the project's run
+dependencies (a hand-kept subset fell behind when a mission came to need pymap3d, and the
+wheels then shipped no kernels)."""
 
 
 def precompiling() -> bool:
