@@ -24,6 +24,7 @@ from baobab.nav.collision_monitor_params import CollisionMonitorConfigError, Col
 from baobab.nav.defaults import NavigatorDefaults, navigator_defaults
 from baobab.nav.nav2_collision_monitor import file_monitor_block, file_monitor_error
 from baobab.nav.nav2_configuration import Nav2Configuration, load_nav2_params
+from baobab.nav.navigation_stack import build_navigation_stack
 from baobab.nav.navigator_robot import (
     NavigatorSetupError,
     SimulatedRobot,
@@ -35,8 +36,8 @@ from baobab.nav.navigator_time import NavigatorWaits
 from baobab.nav.robot_params import navigation_params
 from baobab.nav.ros.rclpy.node import Node
 from baobab.nav.rostime import S_TO_NS, Clock, ClockType, set_sim_time_source
-from baobab.nav.server import NavigationServer, build_navigation
-from baobab.nav.world_servers import WorldServers, attach_world_servers
+from baobab.nav.server import NavigationServer
+from baobab.nav.world_servers import WorldServers
 from baobab.robots.catalog import RobotInfo
 from baobab.sim.errors import BaobabError
 from baobab.sim.viewer import RealTimePacer
@@ -165,15 +166,13 @@ class NavigatorCore(Node):
             world = self.nav2_configuration.filtered(world)
         monitor_params = self._monitor_params(world, self._robot)
         rig = build_simulated_robot(self._robot, world, start, self._seed)
-        params = self._params
-        if monitor_params is None:
-            server = build_navigation(rig.sim, rig.base, rig.lidar, world, params=params)
-        else:
+        monitor = None
+        if monitor_params is not None:
             footprint = robot_footprint(self._robot)
             monitor = CollisionMonitor(rig.sim, rig.base, rig.lidar, monitor_params, footprint)
-            server = build_navigation(rig.sim, monitor.base, rig.lidar, world, params=params)
-            monitor.serve(server.services)
-        self._world_servers = attach_world_servers(server, world)
+        server, self._world_servers = build_navigation_stack(
+            rig.sim, rig.base, rig.lidar, world, self._params, monitor
+        )
         return rig, server
 
     @property

@@ -135,9 +135,8 @@ def build_navigation(
     ``mission``'s Nav2 parameter file's on top, with or without substitutes), fed by teleop
     events, driving through the collision monitor when there is one, and the servers of the
     world's route graph and datum (imported only now)."""
+    from baobab.nav.navigation_stack import build_navigation_stack
     from baobab.nav.robot_params import navigation_params
-    from baobab.nav.server import build_navigation as build_server
-    from baobab.nav.world_servers import attach_world_servers
 
     params = navigation_params(info)
     if mission is not None and mission.nav2_params is not None:
@@ -145,12 +144,11 @@ def build_navigation(
 
         substitute = mission.nav2_substitute
         params = configure_navigation(mission.nav2_params, params, substitute=substitute).params
-    base = robot.base if monitor is None else monitor.base
-    server = build_server(sim, base, robot.lidar, world, params=params)
-    if monitor is not None:
-        monitor.serve(server.services)
+    server, world_servers = build_navigation_stack(
+        sim, robot.base, robot.lidar, world, params, monitor
+    )
     teleop.subscribe(lambda twist: server.teleop_command(*(twist or (0.0, 0.0))))
-    return server, attach_world_servers(server, world)
+    return server, world_servers
 
 
 def _collision_monitor(
