@@ -19,7 +19,7 @@ import math
 
 import mujoco
 
-from baobab.robots.diff_drive.facts import LIDAR_HALF_HEIGHT, DiffDriveFacts
+from baobab.robots.diff_drive.facts import LIDAR_HALF_HEIGHT, Caster, DiffDriveFacts
 from baobab.robots.diff_drive.names import OBSTACLE_GROUPS, DiffDriveNames
 from baobab.sim.builder import MAP_WALL_MATERIAL, ROBOT_GROUP
 from baobab.sim.world import FLOOR_NAME, Pose2D
@@ -63,22 +63,28 @@ def diff_drive_spec(facts: DiffDriveFacts) -> mujoco.MjSpec:
     chassis.add_freejoint(name="root")
     _add_chassis(chassis, facts)
     for index, caster in enumerate(facts.casters):
-        robot_geom(
-            chassis,
-            name=f"caster_{index}",
-            type=mujoco.mjtGeom.mjGEOM_SPHERE,
-            size=[caster.radius, 0.0, 0.0],
-            pos=[caster.x, caster.y, caster.radius],
-            condim=1,
-            friction=[0.0, 0.0, 0.0],
-            priority=1,
-            rgba=HUB_COLOUR,
-        )
+        add_caster(chassis, caster, f"caster_{index}")
     _add_lidar(chassis, facts)
     add_footprint_geom(spec, chassis, facts, bottom=facts.body.bottom, top=facts.height)
     for side, sign in (("left", 1.0), ("right", -1.0)):
         add_wheel(spec, chassis, facts, side, sign)
     return spec
+
+
+def add_caster(chassis: mujoco.MjsBody, caster: Caster, name: str) -> None:
+    """A frictionless ball caster touching the floor under ``chassis`` (frictionless so that
+    it carries weight without resisting a turn)."""
+    robot_geom(
+        chassis,
+        name=name,
+        type=mujoco.mjtGeom.mjGEOM_SPHERE,
+        size=[caster.radius, 0.0, 0.0],
+        pos=[caster.x, caster.y, caster.radius],
+        condim=1,
+        friction=[0.0, 0.0, 0.0],
+        priority=1,
+        rgba=HUB_COLOUR,
+    )
 
 
 def _add_chassis(chassis: mujoco.MjsBody, facts: DiffDriveFacts) -> None:

@@ -18,6 +18,7 @@ from baobab.robots.diff_drive.facts import DiffDriveFacts
 from baobab.robots.diff_drive.model import (
     HUB_COLOUR,
     INVISIBLE,
+    add_caster,
     add_wheel,
     attach_robot,
     robot_geom,
@@ -72,18 +73,7 @@ def _add_chassis(chassis: mujoco.MjsBody, facts: DiffDriveFacts) -> None:
         rgba=INVISIBLE,
     )
     _add_plate_stack(chassis)
-    caster = facts.casters[0]
-    robot_geom(
-        chassis,
-        name="caster",
-        type=mujoco.mjtGeom.mjGEOM_SPHERE,
-        size=[caster.radius, 0.0, 0.0],
-        pos=[caster.x, caster.y, caster.radius],
-        condim=1,
-        friction=[0.0, 0.0, 0.0],
-        priority=1,
-        rgba=HUB_COLOUR,
-    )
+    add_caster(chassis, facts.casters[0], "caster")
     _add_lidar(chassis, facts)
     visual_geom(
         chassis,
