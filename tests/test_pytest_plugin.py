@@ -296,7 +296,7 @@ def _item(nodeid: str) -> Any:
 
 def test_scenarios_are_ordered_longest_first_and_other_tests_keep_their_places() -> None:
     items = [_item(name) for name in ("a", "test_x", "b", "c", "d")]
-    durations = {"a": 0.2, "b": None, "c": 3.0, "d": 1.0}  # b: not measured yet, counts as longest
+    durations = {"a": 0.2, "b": 5.0, "c": 3.0, "d": 1.0}
     ordered = longest_first(items, durations)
     assert [item.nodeid for item in ordered] == ["b", "test_x", "c", "d", "a"]
 
@@ -311,13 +311,29 @@ def test_only_pytest_xdist_workers_reorder_the_scenarios(tmp_path: Path) -> None
 
     fast, slow = Scenario.__new__(Scenario), Scenario.__new__(Scenario)
     fast.nodeid, slow.nodeid = "m.yaml::fast", "m.yaml::slow"
-    items: list[pytest.Item] = [fast, slow]
+    fast.mission = SimpleNamespace(timeout=1500.0)  # type: ignore[assignment]
+    slow.mission = SimpleNamespace(timeout=60.0)  # type: ignore[assignment]
+    items: list[pytest.Item] = [slow, fast]
     pytest_collection_modifyitems(SimpleNamespace(cache=Cache()), items)  # type: ignore[arg-type]
-    assert items == [fast, slow]  # a single process: the files' order
+    assert items == [slow, fast]  # a single process: the files' order
     worker = SimpleNamespace(cache=Cache(), workerinput={"workerid": "gw0"})
     pytest_collection_modifyitems(worker, items)  # type: ignore[arg-type]
-    assert items == [fast, slow]  # fast was never measured: it counts as longest
+    assert items == [fast, slow]  # fast, not measured yet: 1500 s timeout at 150x is 10 s > 9 s
     fast_seconds = {duration_key("m.yaml::fast"): 0.5, duration_key("m.yaml::slow"): 9.0}
     worker.cache.get = lambda key, default: fast_seconds.get(key, default)  # type: ignore[method-assign]
     pytest_collection_modifyitems(worker, items)  # type: ignore[arg-type]
     assert items == [slow, fast]
+
+
+def test_without_pytests_cache_the_timeouts_order_the_first_session() -> None:
+    class Scenario(MissionItem):
+        nodeid = ""  # type: ignore[assignment]  (a plain attribute here)
+
+    short, long = Scenario.__new__(Scenario), Scenario.__new__(Scenario)
+    short.nodeid, long.nodeid = "m.yaml::short", "m.yaml::long"
+    short.mission = SimpleNamespace(timeout=90.0)  # type: ignore[assignment]
+    long.mission = SimpleNamespace(timeout=1800.0)  # type: ignore[assignment]
+    items: list[pytest.Item] = [short, long]
+    worker = SimpleNamespace(cache=None, workerinput={"workerid": "gw0"})  # -p no:cacheprovider
+    pytest_collection_modifyitems(worker, items)  # type: ignore[arg-type]
+    assert items == [long, short]
