@@ -24,6 +24,7 @@ from baobab.missions.cli.run_server_protocol import socket_path
 from baobab.missions.run.run_folder import RESULT_FILE, TRACE_FILE
 
 BAOBAB = str(Path(sys.executable).parent / "baobab")
+GOLDEN = json.loads((Path(__file__).parent / "golden_digests.json").read_text())
 HEADER = "# yaml-language-server: $schema=mission.schema.json\n"
 PAUSE = HEADER + "mission: pause\nworld: walls\nrobot: turtlebot3\ntree:\n  wait: 60\n"
 UNEQUAL = ("wall_time", "speedup", "run_folder")
@@ -91,8 +92,11 @@ def _first_tick(process: subprocess.Popen) -> None:
         assert line, f"baobab ended before its run's first tick: {process.wait()}"
 
 
-def test_a_served_run_is_the_run_its_own_process_makes(server: Server, tmp_path: Path) -> None:
-    arguments = ["run", "walls_go_to_goal", "--json", "--out"]
+@pytest.mark.parametrize("mission", ["walls_go_to_goal", "panda_pick"])  # the arm: BLAS, Pinocchio
+def test_a_served_run_is_the_run_its_own_process_makes(
+    server: Server, mission: str, tmp_path: Path
+) -> None:
+    arguments = ["run", mission, "--json", "--out"]
     served = _run([*arguments, "served"], tmp_path, server.environ)
     assert served.returncode == 0, served.stderr
     assert "worker" in server.next_line() and "ended with exit code 0" in server.next_line()
@@ -105,6 +109,7 @@ def test_a_served_run_is_the_run_its_own_process_makes(server: Server, tmp_path:
             result.pop(field)
     assert results[0] == results[1]
     assert results[0]["result"] == "SUCCEEDED"
+    assert results[0]["trace_digest"] == GOLDEN[mission]
     traces = [(folder / TRACE_FILE).read_bytes() for folder in folders]
     assert traces[0] == traces[1]
     assert json.loads(served.stdout)["run_folder"] == "served"  # as given, relative to its cwd
