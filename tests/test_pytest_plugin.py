@@ -301,18 +301,24 @@ def test_scenarios_are_ordered_longest_first_and_other_tests_keep_their_places()
     assert [item.nodeid for item in ordered] == ["b", "test_x", "c", "d", "a"]
 
 
+class _Scenario(MissionItem):
+    nodeid = ""  # type: ignore[assignment]  (a plain attribute here)
+
+
+def _scenario(nodeid: str, timeout: float) -> MissionItem:
+    """A scenario item with only its node id and its mission's timeout (s)."""
+    item = _Scenario.__new__(_Scenario)
+    item.nodeid = nodeid
+    item.mission = SimpleNamespace(timeout=timeout)  # type: ignore[assignment]
+    return item
+
+
 def test_only_pytest_xdist_workers_reorder_the_scenarios(tmp_path: Path) -> None:
     class Cache:
         def get(self, key: str, default: Any) -> Any:
             return {duration_key("m.yaml::slow"): 9.0}.get(key, default)
 
-    class Scenario(MissionItem):
-        nodeid = ""  # type: ignore[assignment]  (a plain attribute here)
-
-    fast, slow = Scenario.__new__(Scenario), Scenario.__new__(Scenario)
-    fast.nodeid, slow.nodeid = "m.yaml::fast", "m.yaml::slow"
-    fast.mission = SimpleNamespace(timeout=1500.0)  # type: ignore[assignment]
-    slow.mission = SimpleNamespace(timeout=60.0)  # type: ignore[assignment]
+    fast, slow = _scenario("m.yaml::fast", 1500.0), _scenario("m.yaml::slow", 60.0)
     items: list[pytest.Item] = [slow, fast]
     pytest_collection_modifyitems(SimpleNamespace(cache=Cache()), items)  # type: ignore[arg-type]
     assert items == [slow, fast]  # a single process: the files' order
@@ -326,13 +332,7 @@ def test_only_pytest_xdist_workers_reorder_the_scenarios(tmp_path: Path) -> None
 
 
 def test_without_pytests_cache_the_timeouts_order_the_first_session() -> None:
-    class Scenario(MissionItem):
-        nodeid = ""  # type: ignore[assignment]  (a plain attribute here)
-
-    short, long = Scenario.__new__(Scenario), Scenario.__new__(Scenario)
-    short.nodeid, long.nodeid = "m.yaml::short", "m.yaml::long"
-    short.mission = SimpleNamespace(timeout=90.0)  # type: ignore[assignment]
-    long.mission = SimpleNamespace(timeout=1800.0)  # type: ignore[assignment]
+    short, long = _scenario("m.yaml::short", 90.0), _scenario("m.yaml::long", 1800.0)
     items: list[pytest.Item] = [short, long]
     worker = SimpleNamespace(cache=None, workerinput={"workerid": "gw0"})  # -p no:cacheprovider
     pytest_collection_modifyitems(worker, items)  # type: ignore[arg-type]

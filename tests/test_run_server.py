@@ -85,11 +85,22 @@ def _run(arguments: list[str], cwd: Path, environ: dict[str, str]) -> subprocess
     )
 
 
-def _first_tick(process: subprocess.Popen) -> None:
-    """Read the run's standard error up to its first progress line."""
+def _long_run_started(server: Server, folder: Path, stdout: int) -> subprocess.Popen:
+    """A served ``baobab run`` of a 60 s pause paced to the wall clock, once it has ticked
+    (its standard error read up to the first progress line)."""
+    (folder / "long.yaml").write_text(PAUSE, encoding="utf-8")
+    process = subprocess.Popen(
+        [BAOBAB, "run", "long.yaml", "--json", "--realtime", "--out", "run"],
+        cwd=folder,
+        env=server.environ,
+        stdout=stdout,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     assert process.stderr is not None
     while not (line := process.stderr.readline()).startswith("t="):
         assert line, f"baobab ended before its run's first tick: {process.wait()}"
+    return process
 
 
 @pytest.mark.parametrize("mission", ["walls_go_to_goal", "panda_pick"])  # the arm: BLAS, Pinocchio
@@ -128,17 +139,7 @@ def test_bad_input_gets_the_same_one_line_error_and_exit_2(server: Server, tmp_p
 def test_a_signal_to_the_caller_cancels_the_served_run(
     server: Server, signum: signal.Signals, tmp_path: Path
 ) -> None:
-    (tmp_path / "long.yaml").write_text(PAUSE, encoding="utf-8")
-    process = subprocess.Popen(
-        [BAOBAB, "run", "long.yaml", "--json", "--realtime", "--out", "run"],
-        cwd=tmp_path,
-        env=server.environ,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    assert process.stderr is not None
-    _first_tick(process)
+    process = _long_run_started(server, tmp_path, stdout=subprocess.PIPE)
     process.send_signal(signum)
     stdout, stderr = process.communicate(timeout=300)
     assert process.returncode == 128 + signum, stderr
@@ -149,17 +150,7 @@ def test_a_signal_to_the_caller_cancels_the_served_run(
 
 
 def test_a_caller_that_is_killed_hangs_its_run_up(server: Server, tmp_path: Path) -> None:
-    (tmp_path / "long.yaml").write_text(PAUSE, encoding="utf-8")
-    process = subprocess.Popen(
-        [BAOBAB, "run", "long.yaml", "--json", "--realtime", "--out", "run"],
-        cwd=tmp_path,
-        env=server.environ,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    assert process.stderr is not None
-    _first_tick(process)
+    process = _long_run_started(server, tmp_path, stdout=subprocess.DEVNULL)
     process.kill()
     process.wait(timeout=60)
     assert "worker" in server.next_line()
