@@ -93,7 +93,7 @@ def run_server(env: dict[str, str]) -> Iterator[dict[str, str]]:
     path = socket_path(served)
     assert path is not None
     server = subprocess.Popen(
-        [sys.executable, "-m", "baobab.missions.cli.run_server", str(path)],
+        [sys.executable, "-P", "-m", "baobab.missions.cli.run_server", str(path)],
         env=served,
         stdin=subprocess.DEVNULL,
         stderr=subprocess.PIPE,

@@ -45,7 +45,7 @@ class Server:
         path = socket_path(self.environ)
         assert path is not None
         self.process = subprocess.Popen(
-            [sys.executable, "-m", "baobab.missions.cli.run_server", str(path)],
+            [sys.executable, "-P", "-m", "baobab.missions.cli.run_server", str(path)],
             stdin=subprocess.DEVNULL,
             stderr=subprocess.PIPE,
             env=self.environ,

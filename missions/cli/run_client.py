@@ -139,7 +139,8 @@ def start_server() -> None:
 
     with contextlib.suppress(OSError), path.with_suffix(".log").open("wb") as log:
         subprocess.Popen(
-            [sys.executable, "-m", "baobab.missions.cli.run_server", str(path)],
+            [sys.executable, "-P", "-m", "baobab.missions.cli.run_server", str(path)],
+            cwd="/",  # -P and /: no module of the caller's folder shadows an installed one
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
             stderr=log,

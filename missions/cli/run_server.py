@@ -24,7 +24,7 @@ request. It loads NumPy with one BLAS thread (``OPENBLAS_NUM_THREADS=1`` unless 
 is safe only from a process with one thread (:mod:`baobab.missions.run.child_process`); if
 threads run after loading all the same, it declines every request.
 
-    python -m baobab.missions.cli.run_server SOCKET     # as run_client starts it
+    python -P -m baobab.missions.cli.run_server SOCKET     # as run_client starts it (in /)
 """
 
 from __future__ import annotations
