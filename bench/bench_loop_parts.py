@@ -7,7 +7,10 @@ and the hot methods of the navigation tick, the run loop and its recording are w
 wall-clock timer; a part's figure is its *self* time (time inside it minus the timed parts it
 called), so the rows add up to the loop's wall time. Figures are per physics step (us; the
 cafe's robot steps at 200 Hz, so 1 us per step is 0.2 ms per sim second). A timer costs
-about 0.3 us per call, which the rows include.
+about half a microsecond per call, most of it in the self time of the part that made the call:
+the table lists the timers' estimated total (calls times a calibrated cost) as a row of its
+own, and "the rest" (the run loop's own work: scheduling callbacks, checking the state, timed
+events) is what remains.
 
 ``bench/bench_callbacks.py`` gives the CPU time per callback alone; this one splits the 20 Hz
 navigation tick (controller, costmap updates, planner, progress checker, feedback) and the
@@ -129,6 +132,27 @@ def _install_timers() -> None:
             setattr(cls, method, _timed(part, vars(cls)[method]))
 
 
+def _timer_cost() -> float:
+    """Wall seconds a timer adds per call (the wrapper around a function doing nothing)."""
+
+    def nothing() -> None:
+        return None
+
+    timed = _timed("calibration", nothing)
+    calls = 200_000
+    began = time.perf_counter()
+    for _ in range(calls):
+        timed()
+    wrapped = time.perf_counter() - began
+    began = time.perf_counter()
+    for _ in range(calls):
+        nothing()
+    plain = time.perf_counter() - began
+    _self.pop("calibration", None)
+    _calls.pop("calibration", None)
+    return max(wrapped - plain, 0.0) / calls
+
+
 def measure(name: str, runs: int) -> None:
     """Run ``name`` once to warm up, then ``runs`` times; print the best run's split."""
     mission = load_mission(resolve_mission(name))
@@ -143,6 +167,8 @@ def measure(name: str, runs: int) -> None:
         wall = record.wall_time
         if best is None or wall < best[0]:
             parts = dict(_self)
+            timers = _timer_cost() * sum(_calls.values())
+            parts["timers (calls x their measured cost)"] = timers
             parts["run loop (the rest)"] = wall - sum(parts.values())
             best = (wall, float(record.outcome.sim_time), parts, dict(_calls))
         del total
