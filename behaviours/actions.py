@@ -13,12 +13,13 @@ from collections.abc import Callable
 
 import py_trees
 
+from baobab.nav.bt import Leaf
 from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
 
 Status = py_trees.common.Status
 
 
-class GoalTaskLeaf(py_trees.behaviour.Behaviour):
+class GoalTaskLeaf(Leaf):
     """Send one goal per activation and report the task's status.
 
     Args:
@@ -68,7 +69,7 @@ class GoalTaskLeaf(py_trees.behaviour.Behaviour):
             self.feedback_message = "canceled by preemption"
 
 
-class InstantCall(py_trees.behaviour.Behaviour):
+class InstantCall(Leaf):
     """Call a synchronous server method once per activation and succeed.
 
     Used for requests that complete at once, like clearing costmaps.
@@ -84,7 +85,7 @@ class InstantCall(py_trees.behaviour.Behaviour):
         return Status.SUCCESS
 
 
-class ServiceCall(py_trees.behaviour.Behaviour):
+class ServiceCall(Leaf):
     """Call a service once per activation: SUCCESS when it reports success, else FAILURE
     with its message as the feedback message (BT.CPP's ``RosServiceNode``)."""
 
@@ -99,7 +100,7 @@ class ServiceCall(py_trees.behaviour.Behaviour):
         return Status.SUCCESS if success else Status.FAILURE
 
 
-class Constant(py_trees.behaviour.Behaviour):
+class Constant(Leaf):
     """Return the same status on every tick (BT.CPP's AlwaysSuccess / AlwaysFailure)."""
 
     def __init__(self, name: str, status: Status) -> None:

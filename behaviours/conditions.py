@@ -8,6 +8,7 @@ from collections.abc import Callable, Sequence
 import py_trees
 
 from baobab.behaviours.ports import Clock
+from baobab.nav.bt import Leaf
 from baobab.sim.world import Pose2D
 
 Status = py_trees.common.Status
@@ -17,7 +18,7 @@ def _angle_between(a: float, b: float) -> float:
     return abs(math.remainder(a - b, math.tau))
 
 
-class IsAt(py_trees.behaviour.Behaviour):
+class IsAt(Leaf):
     """SUCCESS when the robot is within ``tolerance`` m (and ``yaw_tolerance`` rad) of a pose.
 
     Args:
@@ -53,7 +54,7 @@ class IsAt(py_trees.behaviour.Behaviour):
         return Status.SUCCESS if near else Status.FAILURE
 
 
-class Elapsed(py_trees.behaviour.Behaviour):
+class Elapsed(Leaf):
     """SUCCESS once the sim clock reads at least ``time`` seconds, else FAILURE.
 
     Args:
@@ -74,7 +75,7 @@ class Elapsed(py_trees.behaviour.Behaviour):
         return Status.SUCCESS if now >= self.time else Status.FAILURE
 
 
-class ObjectNear(py_trees.behaviour.Behaviour):
+class ObjectNear(Leaf):
     """SUCCESS when a named object lies within ``tolerance`` m of a point.
 
     Args:

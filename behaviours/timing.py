@@ -5,11 +5,12 @@ from __future__ import annotations
 import py_trees
 
 from baobab.behaviours.ports import Clock
+from baobab.nav.bt import Leaf
 
 Status = py_trees.common.Status
 
 
-class SimWait(py_trees.behaviour.Behaviour):
+class SimWait(Leaf):
     """RUNNING until ``duration`` seconds of sim time have passed since activation.
 
     Args:
