@@ -13,13 +13,12 @@ from collections.abc import Callable
 
 import py_trees
 
-from baobab.nav.bt import Leaf
 from baobab.sim.tasks import TaskHandle, TaskOutcome, TaskStatus
 
 Status = py_trees.common.Status
 
 
-class GoalTaskLeaf(Leaf):
+class GoalTaskLeaf(py_trees.behaviour.Behaviour):
     """Send one goal per activation and report the task's status.
 
     Args:
@@ -69,7 +68,7 @@ class GoalTaskLeaf(Leaf):
             self.feedback_message = "canceled by preemption"
 
 
-class InstantCall(Leaf):
+class InstantCall(py_trees.behaviour.Behaviour):
     """Call a synchronous server method once per activation and succeed.
 
     Used for requests that complete at once, like clearing costmaps.
@@ -85,7 +84,7 @@ class InstantCall(Leaf):
         return Status.SUCCESS
 
 
-class ServiceCall(Leaf):
+class ServiceCall(py_trees.behaviour.Behaviour):
     """Call a service once per activation: SUCCESS when it reports success, else FAILURE
     with its message as the feedback message (BT.CPP's ``RosServiceNode``)."""
 
@@ -100,7 +99,7 @@ class ServiceCall(Leaf):
         return Status.SUCCESS if success else Status.FAILURE
 
 
-class Constant(Leaf):
+class Constant(py_trees.behaviour.Behaviour):
     """Return the same status on every tick (BT.CPP's AlwaysSuccess / AlwaysFailure)."""
 
     def __init__(self, name: str, status: Status) -> None:

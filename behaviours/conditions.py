@@ -8,7 +8,6 @@ from collections.abc import Callable, Sequence
 import py_trees
 
 from baobab.behaviours.ports import Clock
-from baobab.nav.bt import Leaf
 from baobab.sim.world import Pose2D
 
 Status = py_trees.common.Status
@@ -18,7 +17,7 @@ def _angle_between(a: float, b: float) -> float:
     return abs(math.remainder(a - b, math.tau))
 
 
-class IsAt(Leaf):
+class IsAt(py_trees.behaviour.Behaviour):
     """SUCCESS when the robot is within ``tolerance`` m (and ``yaw_tolerance`` rad) of a pose.
 
     Args:
@@ -54,7 +53,7 @@ class IsAt(Leaf):
         return Status.SUCCESS if near else Status.FAILURE
 
 
-class Elapsed(Leaf):
+class Elapsed(py_trees.behaviour.Behaviour):
     """SUCCESS once the sim clock reads at least ``time`` seconds, else FAILURE.
 
     Args:
@@ -75,7 +74,7 @@ class Elapsed(Leaf):
         return Status.SUCCESS if now >= self.time else Status.FAILURE
 
 
-class ObjectNear(Leaf):
+class ObjectNear(py_trees.behaviour.Behaviour):
     """SUCCESS when a named object lies within ``tolerance`` m of a point.
 
     Args:

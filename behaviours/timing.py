@@ -5,12 +5,11 @@ from __future__ import annotations
 import py_trees
 
 from baobab.behaviours.ports import Clock
-from baobab.nav.bt import Leaf
 
 Status = py_trees.common.Status
 
 
-class SimWait(Leaf):
+class SimWait(py_trees.behaviour.Behaviour):
     """RUNNING until ``duration`` seconds of sim time have passed since activation.
 
     Args:

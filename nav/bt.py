@@ -36,8 +36,7 @@ class Leaf(Behaviour):
 
     ``tick`` and ``stop`` do what :class:`py_trees.behaviour.Behaviour`'s do (initialise when
     not running, update, stop on a finished status, then record it) without formatting debug
-    messages nobody reads or listing the status enum on every tick: the navigation trees' leaves
-    tick at 20 Hz, a mission's leaves (:mod:`baobab.behaviours`) at 10 Hz.
+    messages nobody reads or listing the status enum on every tick; the leaves tick at 20 Hz.
     """
 
     def tick(self) -> Iterator[Behaviour]:

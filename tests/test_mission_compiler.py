@@ -462,22 +462,3 @@ def test_every_composite_states_its_memory(tmp_path: Path) -> None:
         if isinstance(b, py_trees.composites.Sequence | py_trees.composites.Selector)
     ]
     assert {b.memory for b in composites} == {True, False}
-
-
-def test_leaves_tick_without_formatting_debug_messages(tmp_path: Path) -> None:
-    """A mission's leaves tick at 10 Hz: py_trees' per-tick debug lines (which nobody reads
-    and which cost more than most leaves' own update) are not even formatted."""
-    rig = _mobile(
-        tmp_path,
-        "  sequence: [{clear_costmaps: all}, {wait: 1}, {is_at: a}, {navigate_to_pose: a}]\n",
-    )
-    logged: list[str] = []
-    leaves = [node for node in rig.compiled.root.iterate() if not node.children]
-    assert len(leaves) == 4
-    for leaf in leaves:
-        leaf.logger.debug = lambda message, name=leaf.name: logged.append(name)  # type: ignore[method-assign]
-    rig.nav.pose = Pose2D(x=0.5, y=0.5, yaw=0.0)
-    for now in (0.0, 0.5, 1.0, 1.5, 2.0):
-        rig.tick(now)
-    assert rig.leaf("navigate_to_pose a").goals_sent == 1  # every leaf ran
-    assert logged == []
