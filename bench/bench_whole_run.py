@@ -3,10 +3,12 @@
 Sections of ``bench/run.py`` (each figure names its mission and its command):
 
 - ``whole``: ``baobab run walls_go_to_goal`` as a whole process, warm, beside a bare
-  ``python -c "import mujoco"`` measured in turns with it (medians of ``repeats``);
+  ``python -c "import mujoco"`` measured in turns with it (medians of ``repeats``): with the
+  run server running, as after a first run (``missions/cli/run_server.py``), and without;
 - ``missions``: every bundled mission as its own ``baobab run M --json`` process, one after
   another: the real-time factor of its loop (the run's ``wall_time``) beside that of its whole
-  process, a mission that fails as FAILED, and the whole sequence against the sum of its loops;
+  process, a mission that fails as FAILED, and the whole sequence against the sum of its loops,
+  with the run server and without;
 - ``suite``: ``pytest missions/ -n 2``, the sum of the missions' sim time over its wall time;
 - ``install`` (optional, minutes): a fresh clone, a fresh venv and ``pip install .``, with and
   without the kernels compiled into the wheel, then the first ``baobab run cafe_delivery``
@@ -18,15 +20,18 @@ baseline measured in the same run; the load average is recorded beside them.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
 import resource
+import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -77,6 +82,37 @@ def compiled_env(cache: str) -> dict[str, str]:
     return env
 
 
+@contextlib.contextmanager
+def run_server(env: dict[str, str]) -> Iterator[dict[str, str]]:
+    """A run server for ``env`` (as the first ``baobab run`` starts one), ready to serve; the
+    environment that reaches it. Stopped on the way out."""
+    from baobab.missions.cli.run_server_protocol import socket_path
+
+    folder = tempfile.mkdtemp(prefix="bb-", dir="/tmp")  # socket paths are short
+    served = {**env, "BAOBAB_RUN_SERVER": "1", "BAOBAB_RUN_SERVER_DIR": folder}
+    path = socket_path(served)
+    assert path is not None
+    server = subprocess.Popen(
+        [sys.executable, "-m", "baobab.missions.cli.run_server", str(path)],
+        env=served,
+        stdin=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert server.stderr is not None and "serving" in server.stderr.readline()
+        yield served
+    finally:
+        server.terminate()
+        server.wait(timeout=60)
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def without_server(env: dict[str, str]) -> dict[str, str]:
+    """``env`` with the run server off: each ``baobab run`` loads everything itself."""
+    return {**env, "BAOBAB_RUN_SERVER": "0"}
+
+
 def timed_process(command: list[str], env: dict[str, str], cwd: Path | None = None) -> float:
     """Wall seconds of ``command`` (output dropped)."""
     began = time.perf_counter()
@@ -110,68 +146,78 @@ def children_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
+def _whole_rounds(env: dict[str, str], out: Path, repeats: int) -> dict[str, list[float]]:
+    """``repeats`` rounds of ``import mujoco`` then ``baobab run walls_go_to_goal`` (after one
+    round that warms the bytecode cache): wall and CPU seconds of each, the CPU of ended
+    children (a run server's worker is not this process's child: not counted)."""
+    rounds: dict[str, list[float]] = {"whole": [], "bare": [], "whole_cpu": [], "bare_cpu": []}
+    for index in range(repeats + 1):
+        before = children_cpu()
+        mujoco = timed_process([sys.executable, "-c", "import mujoco"], env)
+        between = children_cpu()
+        wall, result, _ = run_process("walls_go_to_goal", out / str(index), env)
+        if index and result is not None:
+            rounds["whole"].append(wall)
+            rounds["bare"].append(mujoco)
+            rounds["bare_cpu"].append(between - before)
+            rounds["whole_cpu"].append(children_cpu() - between)
+    return rounds
+
+
 def whole_figures(repeats: int = 5) -> list[Figure]:
-    """``baobab run walls_go_to_goal``, whole process, warm, against ``import mujoco``: wall
-    seconds, and CPU seconds of the process and its run's process (which a loaded machine
-    inflates far less than the wall time)."""
-    whole: list[float] = []
-    bare: list[float] = []
-    whole_cpu: list[float] = []
-    bare_cpu: list[float] = []
+    """``baobab run walls_go_to_goal``, whole process, warm, against ``import mujoco``: with
+    the run server running (as after a first run), and without one (``BAOBAB_RUN_SERVER=0``:
+    the wall and CPU seconds of the process and its run's process)."""
+    command = "baobab run walls_go_to_goal (whole process, warm)"
     with tempfile.TemporaryDirectory() as out:
         env = compiled_env(f"{out}/pycache")
-        for index in range(repeats + 1):  # the first round warms the bytecode cache
-            before = children_cpu()
-            mujoco = timed_process([sys.executable, "-c", "import mujoco"], env)
-            between = children_cpu()
-            wall, result, _ = run_process("walls_go_to_goal", Path(out) / str(index), env)
-            if index and result is not None:
-                whole.append(wall)
-                bare.append(mujoco)
-                bare_cpu.append(between - before)
-                whole_cpu.append(children_cpu() - between)
-    command = "baobab run walls_go_to_goal (whole process, warm)"
-    if not whole:
+        with run_server(env) as served_env:
+            served = _whole_rounds(served_env, Path(out) / "served", repeats)
+        alone = _whole_rounds(without_server(env), Path(out) / "alone", repeats)
+    if not served["whole"] or not alone["whole"]:
+        failed = "the run gave no result"
         return [
+            Figure("whole process walls_go_to_goal", math.nan, "s", 1.0, False, command, failed)
+        ]
+    figures = []
+    for label, rounds, targets in (
+        ("run server", served, (1.0, 0.5)),
+        ("no run server", alone, (None, None)),
+    ):
+        differences = [
+            run - bare for run, bare in zip(rounds["whole"], rounds["bare"], strict=True)
+        ]
+        figures += [
             Figure(
-                "whole process walls_go_to_goal",
-                float("nan"),
+                f"whole process walls_go_to_goal, {label} (median)",
+                statistics.median(rounds["whole"]),
                 "s",
-                1.0,
+                targets[0],
+                False,
+                command + ("" if label == "run server" else ", BAOBAB_RUN_SERVER=0"),
+            ),
+            Figure(
+                f"whole process walls_go_to_goal, {label}, minus import mujoco (median of pairs)",
+                statistics.median(differences),
+                "s",
+                targets[1],
                 False,
                 command,
-                failed="the run gave no result",
-            )
+            ),
         ]
-    differences = [run - base for run, base in zip(whole, bare, strict=True)]
     return [
-        Figure(
-            "whole process walls_go_to_goal (median)",
-            statistics.median(whole),
-            "s",
-            1.0,
-            False,
-            command,
-        ),
+        *figures,
         Figure(
             "bare python -c 'import mujoco' (median)",
-            statistics.median(bare),
+            statistics.median(served["bare"] + alone["bare"]),
             "s",
             None,
             False,
             "python -c 'import mujoco'",
         ),
         Figure(
-            "whole process walls_go_to_goal minus import mujoco (median of pairs)",
-            statistics.median(differences),
-            "s",
-            0.5,
-            False,
-            command,
-        ),
-        Figure(
-            "CPU of baobab run walls_go_to_goal, both processes (median)",
-            statistics.median(whole_cpu),
+            "CPU of baobab run walls_go_to_goal, no run server, both processes (median)",
+            statistics.median(alone["whole_cpu"]),
             "s",
             None,
             False,
@@ -179,7 +225,7 @@ def whole_figures(repeats: int = 5) -> list[Figure]:
         ),
         Figure(
             "CPU of python -c 'import mujoco' (median)",
-            statistics.median(bare_cpu),
+            statistics.median(alone["bare_cpu"]),
             "s",
             None,
             False,
@@ -188,61 +234,67 @@ def whole_figures(repeats: int = 5) -> list[Figure]:
     ]
 
 
-def mission_process_figures(missions: list[str]) -> list[Figure]:
-    """Each bundled mission as its own process, one after another: loop and whole RTF."""
+def _mission_sequence(
+    missions: list[str], env: dict[str, str], out: Path
+) -> tuple[list[Figure], list[float], list[float]]:
+    """Each mission as a ``baobab run M --json`` process in turn: its figures (loop and whole
+    real-time factors, or FAILED), and the whole and loop wall seconds of those that ran."""
     figures: list[Figure] = []
     walls: list[float] = []
     loops: list[float] = []
-    with tempfile.TemporaryDirectory() as out:
-        env = compiled_env(f"{out}/pycache")
-        run_process("walls_go_to_goal", Path(out) / "warm", env)  # bytecode cache
-        for name in missions:
-            wall, result, stderr = run_process(name, Path(out) / name, env)
-            command = f"baobab run {name} --json"
-            if result is None or result.get("result") in (None, "ERROR"):
-                reason = stderr.strip().splitlines()[-1] if stderr.strip() else "no result"
-                figures.append(
-                    Figure(
-                        f"real-time factor {name}",
-                        float("nan"),
-                        "x",
-                        None,
-                        True,
-                        command,
-                        failed=reason,
-                    )
-                )
-                continue
-            sim, loop = float(result["sim_time"]), float(result["wall_time"])
-            walls.append(wall)
-            loops.append(loop)
-            outcome = "" if result["intended"] else f" ({result['result']}, not as intended)"
+    run_process("walls_go_to_goal", out / "warm", env)  # bytecode cache
+    for name in missions:
+        wall, result, stderr = run_process(name, out / name, env)
+        command = f"baobab run {name} --json"
+        if result is None or result.get("result") in (None, "ERROR"):
+            reason = stderr.strip().splitlines()[-1] if stderr.strip() else "no result"
             figures.append(
-                Figure(
-                    f"real-time factor {name}, loop{outcome}",
-                    sim / loop,
-                    "x",
-                    20.0 if name == "panda_pick" else 100.0,
-                    True,
-                    command,
-                )
+                Figure(f"real-time factor {name}", math.nan, "x", None, True, command, reason)
             )
-            figures.append(
-                Figure(
-                    f"real-time factor {name}, whole process", sim / wall, "x", None, True, command
-                )
-            )
-    if loops:
+            continue
+        sim, loop = float(result["sim_time"]), float(result["wall_time"])
+        walls.append(wall)
+        loops.append(loop)
+        outcome = "" if result["intended"] else f" ({result['result']}, not as intended)"
+        target = 20.0 if name == "panda_pick" else 100.0
         figures.append(
             Figure(
-                f"{len(loops)} bundled missions as processes: whole / sum of loops",
-                sum(walls) / sum(loops),
-                "ratio",
-                2.0,
-                False,
-                "baobab run M --json, for each bundled mission in turn",
+                f"real-time factor {name}, loop{outcome}", sim / loop, "x", target, True, command
             )
         )
+        figures.append(
+            Figure(f"real-time factor {name}, whole process", sim / wall, "x", None, True, command)
+        )
+    return figures, walls, loops
+
+
+def mission_process_figures(missions: list[str]) -> list[Figure]:
+    """Each bundled mission as its own process, one after another, with the run server
+    running: loop and whole real-time factors, and the whole sequence against the sum of its
+    loops; the same sequence without a run server beside it."""
+    command = "baobab run M --json, for each bundled mission in turn"
+    with tempfile.TemporaryDirectory() as out:
+        env = compiled_env(f"{out}/pycache")
+        with run_server(env) as served_env:
+            figures, walls, loops = _mission_sequence(missions, served_env, Path(out) / "served")
+        _, alone_walls, alone_loops = _mission_sequence(
+            missions, without_server(env), Path(out) / "alone"
+        )
+    for label, whole, loop, target in (
+        ("run server", walls, loops, 2.0),
+        ("no run server", alone_walls, alone_loops, None),
+    ):
+        if loop:
+            figures.append(
+                Figure(
+                    f"{len(loop)} bundled missions as processes, {label}: whole / sum of loops",
+                    sum(whole) / sum(loop),
+                    "ratio",
+                    target,
+                    False,
+                    command + ("" if target else ", BAOBAB_RUN_SERVER=0"),
+                )
+            )
     return figures
 
 

@@ -296,9 +296,21 @@ def _item(nodeid: str) -> Any:
 
 def test_scenarios_are_ordered_longest_first_and_other_tests_keep_their_places() -> None:
     items = [_item(name) for name in ("a", "test_x", "b", "c", "d")]
-    durations = {"a": 0.2, "b": None, "c": 3.0, "d": 1.0}  # b: not measured yet, counts as longest
+    durations = {"a": 0.2, "b": 5.0, "c": 3.0, "d": 1.0}
     ordered = longest_first(items, durations)
     assert [item.nodeid for item in ordered] == ["b", "test_x", "c", "d", "a"]
+
+
+class _Scenario(MissionItem):
+    nodeid = ""  # type: ignore[assignment]  (a plain attribute here)
+
+
+def _scenario(nodeid: str, timeout: float) -> MissionItem:
+    """A scenario item with only its node id and its mission's timeout (s)."""
+    item = _Scenario.__new__(_Scenario)
+    item.nodeid = nodeid
+    item.mission = SimpleNamespace(timeout=timeout)  # type: ignore[assignment]
+    return item
 
 
 def test_only_pytest_xdist_workers_reorder_the_scenarios(tmp_path: Path) -> None:
@@ -306,18 +318,22 @@ def test_only_pytest_xdist_workers_reorder_the_scenarios(tmp_path: Path) -> None
         def get(self, key: str, default: Any) -> Any:
             return {duration_key("m.yaml::slow"): 9.0}.get(key, default)
 
-    class Scenario(MissionItem):
-        nodeid = ""  # type: ignore[assignment]  (a plain attribute here)
-
-    fast, slow = Scenario.__new__(Scenario), Scenario.__new__(Scenario)
-    fast.nodeid, slow.nodeid = "m.yaml::fast", "m.yaml::slow"
-    items: list[pytest.Item] = [fast, slow]
+    fast, slow = _scenario("m.yaml::fast", 1500.0), _scenario("m.yaml::slow", 60.0)
+    items: list[pytest.Item] = [slow, fast]
     pytest_collection_modifyitems(SimpleNamespace(cache=Cache()), items)  # type: ignore[arg-type]
-    assert items == [fast, slow]  # a single process: the files' order
+    assert items == [slow, fast]  # a single process: the files' order
     worker = SimpleNamespace(cache=Cache(), workerinput={"workerid": "gw0"})
     pytest_collection_modifyitems(worker, items)  # type: ignore[arg-type]
-    assert items == [fast, slow]  # fast was never measured: it counts as longest
+    assert items == [fast, slow]  # fast, not measured yet: 1500 s timeout at 150x is 10 s > 9 s
     fast_seconds = {duration_key("m.yaml::fast"): 0.5, duration_key("m.yaml::slow"): 9.0}
     worker.cache.get = lambda key, default: fast_seconds.get(key, default)  # type: ignore[method-assign]
     pytest_collection_modifyitems(worker, items)  # type: ignore[arg-type]
     assert items == [slow, fast]
+
+
+def test_without_pytests_cache_the_timeouts_order_the_first_session() -> None:
+    short, long = _scenario("m.yaml::short", 90.0), _scenario("m.yaml::long", 1800.0)
+    items: list[pytest.Item] = [short, long]
+    worker = SimpleNamespace(cache=None, workerinput={"workerid": "gw0"})  # -p no:cacheprovider
+    pytest_collection_modifyitems(worker, items)  # type: ignore[arg-type]
+    assert items == [long, short]

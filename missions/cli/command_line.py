@@ -15,25 +15,19 @@ the parser for ``baobab run`` imports only ``run_command``), and what only one c
 
 from __future__ import annotations
 
-import os
+from baobab.missions.cli.startup import environment_defaults, skip_pydantic_plugin_discovery
 
-# MuJoCo picks its OpenGL backend when first imported; headless, only EGL can render video.
-if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
-    os.environ.setdefault("MUJOCO_GL", "egl")
-# baobab's models need no pydantic plugins, and looking for them reads the metadata of every
-# installed package at start-up; a user who sets the variable keeps their choice.
-os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
+environment_defaults()  # before MuJoCo or pydantic load
 
-import argparse
-import sys
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, NoReturn
+import argparse  # noqa: E402
+import sys  # noqa: E402
+from collections.abc import Callable, Sequence  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
+from typing import TYPE_CHECKING, NoReturn  # noqa: E402
 
-from baobab.missions.cli.interrupts import signals_for
-from baobab.missions.cli.startup import skip_pydantic_plugin_discovery
-from baobab.missions.run.exit_codes import EXIT_INTERRUPTED, EXIT_INVALID
-from baobab.sim.errors import BaobabError, SourceError, one_line
+from baobab.missions.cli.interrupts import signals_for  # noqa: E402
+from baobab.missions.run.exit_codes import EXIT_INTERRUPTED, EXIT_INVALID  # noqa: E402
+from baobab.sim.errors import BaobabError, SourceError, one_line  # noqa: E402
 
 if TYPE_CHECKING:
     from baobab.missions.run.child_process import StartedChild

@@ -37,6 +37,7 @@ from baobab.missions.cli.interrupts import (  # noqa: E402
     exit_on_signals,
     exits_at_once,
 )
+from baobab.missions.run.exit_codes import EXIT_NOT_INTENDED, EXIT_OK  # noqa: E402
 
 exit_on_signals()
 
@@ -46,16 +47,36 @@ def main() -> int:
     from baobab.missions.cli.streams import guard_standard_streams
 
     guard_standard_streams()
+    arguments = sys.argv[1:]
+    served = _run_in_server(arguments) if _command(arguments) == "run" else None
+    if served is not None:
+        _leave(served)
     from baobab.missions.cli.command_line import main as command_line
 
     try:
         code = command_line()
     except KeyboardInterrupt:
         code = exit_code_for(signal.SIGINT)
+    if _command(arguments) == "run" and code in (EXIT_OK, EXIT_NOT_INTENDED):
+        from baobab.missions.cli.run_client import start_server
+
+        start_server()  # for the next run
     if not exits_at_once():  # a command that unwinds: the interpreter's teardown runs its
         exit_on_signals()  # clean-ups (atexit), and a signal meanwhile ends it at once
         return code
     _leave(code)
+
+
+def _command(arguments: list[str]) -> str | None:
+    """The subcommand: the first argument that is not an option."""
+    return next((argument for argument in arguments if not argument.startswith("-")), None)
+
+
+def _run_in_server(arguments: list[str]) -> int | None:
+    """``baobab run`` in the run server (:mod:`baobab.missions.cli.run_client`), if one serves."""
+    from baobab.missions.cli.run_client import run_in_server
+
+    return run_in_server(arguments)
 
 
 def _leave(code: int) -> NoReturn:

@@ -22,13 +22,25 @@ import importlib
 import os
 import sys
 import types
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, MutableMapping
 from typing import Any
 
 PLUGIN_LOADER = "pydantic.plugin._loader"
 """The module pydantic imports, when it builds its first validator, to find its plugins."""
 PLUGINS_DISABLED = ("__all__", "1", "true")
 """Values of ``PYDANTIC_DISABLE_PLUGINS`` with which pydantic loads no plugin at all."""
+
+
+def environment_defaults(environ: MutableMapping[str, str] = os.environ) -> None:
+    """Set the variables the command's modules read as they load, where the user has not.
+
+    MuJoCo picks its OpenGL backend when first imported; headless, only EGL can render video.
+    baobab's models need no pydantic plugins, and looking for them reads the metadata of every
+    installed package at start-up.
+    """
+    if not (environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY")):
+        environ.setdefault("MUJOCO_GL", "egl")
+    environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 
 def skip_pydantic_plugin_discovery() -> bool:

@@ -23,8 +23,9 @@ it costs more than a short scenario's simulation), unless ``--baobab-plots all``
 every one (``none``: for no one). A failure prints the table of expectations, measured against
 expected, the run folder's path and the command that replays the run. Each scenario's loop time
 is kept in pytest's cache (``baobab/loop_seconds/<file>/<name>``); under pytest-xdist the workers
-collect the scenarios longest first by it (:func:`longest_first`), so the longest ones do not
-start last and leave one worker running alone at the end. In a JUnit report
+collect the scenarios longest first by it, or by their timeouts where it is not known yet
+(:func:`expected_seconds`, :func:`longest_first`), so the longest ones do not start last and
+leave one worker running alone at the end. In a JUnit report
 (:mod:`~baobab.missions.testing.pytest_junit`) each mission is a testcase named by its folder
 and name,
 with its result, sim time, trace digest, seed, baseline and run folder in its system-out.
@@ -139,16 +140,29 @@ def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.Col
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """In a pytest-xdist worker, order the scenarios longest first by their last loop time."""
-    cache = getattr(config, "cache", None)
-    if cache is None or not hasattr(config, "workerinput"):
+    """In a pytest-xdist worker, order the scenarios longest first: by their last loop time,
+    or, the first time (or without pytest's cache), by their timeout (:func:`expected_seconds`)."""
+    if not hasattr(config, "workerinput"):
         return
+    cache = getattr(config, "cache", None)
     durations = {
-        item.nodeid: cache.get(duration_key(item.nodeid), None)
+        item.nodeid: expected_seconds(item, cache)
         for item in items
         if isinstance(item, MissionItem)
     }
     items[:] = longest_first(items, durations)
+
+
+NOMINAL_SPEED = 150.0
+"""Sim seconds per wall second a scenario is taken to run at before its first loop time is
+known: only the order of scenarios depends on it."""
+
+
+def expected_seconds(item: MissionItem, cache: Any) -> float:
+    """How long ``item``'s loop is expected to take (wall s): its last one, else its timeout
+    (sim s) at :data:`NOMINAL_SPEED` (a mission's timeout grows with its length)."""
+    last = None if cache is None else cache.get(duration_key(item.nodeid), None)
+    return float(last) if last is not None else item.mission.timeout / NOMINAL_SPEED
 
 
 def duration_key(nodeid: str) -> str:
@@ -156,19 +170,13 @@ def duration_key(nodeid: str) -> str:
     return DURATION_KEY + nodeid.replace("::", "/")
 
 
-def longest_first(
-    items: list[pytest.Item], durations: dict[str, float | None]
-) -> list[pytest.Item]:
-    """``items`` with those named in ``durations`` (node id: seconds, None when not known yet)
-    moved to their places longest first; unknown ones count as longest (keep their order)."""
+def longest_first(items: list[pytest.Item], durations: dict[str, float]) -> list[pytest.Item]:
+    """``items`` with those named in ``durations`` (node id: seconds) moved to their places,
+    longest first; the others keep their places."""
     places = [index for index, item in enumerate(items) if item.nodeid in durations]
-
-    def longest(index: int) -> tuple[bool, float]:
-        seconds = durations[items[index].nodeid]
-        return (seconds is not None, -(seconds or 0.0))
-
     ordered = list(items)
-    for place, index in zip(places, sorted(places, key=longest), strict=True):
+    by_length = sorted(places, key=lambda index: -durations[items[index].nodeid])
+    for place, index in zip(places, by_length, strict=True):
         ordered[place] = items[index]
     return ordered
 
