@@ -14,6 +14,13 @@ noise cancels; wall-clock figures of whole processes are medians of repeats. A m
 fails is in the table as FAILED, with why. Prints a table (figure, value, target, met?) with
 the load average before and after, and writes bench.json. Targets come from the performance
 issues. Process-level sections live in ``bench_whole_run.py``.
+
+The loop's overhead (``--only missions``, issue 28: at most 1.5) is ``cafe_delivery``'s loop
+wall time over bare ``mj_step`` of the same model stepping the same motion: the run's initial
+state and each step's actuator controls, replayed open loop on a fresh MjData by a compiled
+control callback (``bare_replay.py``; the replay must end where the run ended). Beside it, for
+comparison, the same number of steps of a fresh MjData: the robot resting where the model
+puts it.
 """
 
 from __future__ import annotations
@@ -29,7 +36,7 @@ import sysconfig
 import tempfile
 import time
 from collections.abc import Callable
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
@@ -62,19 +69,35 @@ def _bundled(name: str) -> Path:
     return Path(resolve_mission(name))
 
 
+@dataclass
+class LoopTimes:
+    """One bundled mission run in this process, beside bare stepping of its model (s)."""
+
+    sim_time: float
+    loop: float
+    """The loop's wall time, best of the runs."""
+    bare_replay: float | None = None
+    """``mj_step`` of a fresh MjData replaying the run's motion (:mod:`bare_replay`)."""
+    bare_resting: float | None = None
+    """``mj_step`` of a fresh MjData for as many steps: the robot at rest."""
+    replay_error: float = 0.0
+    """The replay's largest final position difference against the run (m or rad)."""
+    steps: int = 0
+    """Physics steps of the run (with ``bare``)."""
+
+
 def _run_in_process(
-    name: str, runs: int = 2, robot: str | None = None
-) -> tuple[float, float, float]:
-    """Run a bundled mission in this process (on ``robot`` instead of its own, if given);
-    return (sim time, loop wall time, bare wall time).
+    name: str, runs: int = 2, robot: str | None = None, *, bare: bool = False
+) -> LoopTimes:
+    """Run a bundled mission in this process (on ``robot`` instead of its own, if given).
 
     The loop time is the best of ``runs`` runs: the first run of a process also loads the
     compiled kernels' caches, which is start-up (the ``startup`` and ``missions`` figures),
-    not simulation speed. The bare time steps a fresh MjData of the same MjModel with
-    ``mj_step`` for the same sim duration, right after the runs, so both see the same load.
+    not simulation speed. With ``bare``, two baselines follow, right after the runs so that
+    they see the same load: the run's own motion replayed open loop on a fresh MjData of the
+    same model (its initial state and each step's actuator controls, recorded in one more
+    run; ``bare_replay.py``), and a fresh MjData stepped as long (the robot at rest).
     """
-    import mujoco
-
     from baobab.missions.language.loader import load_mission
     from baobab.missions.run.rig import build_rig
     from baobab.missions.run.runner import run_mission
@@ -82,47 +105,59 @@ def _run_in_process(
     mission = load_mission(_bundled(name), robot=robot)
     records = [run_mission(mission) for _ in range(runs)]
     record = min(records, key=lambda run: run.wall_time)
-    sim_time = float(record.outcome.sim_time)
-    model = build_rig(mission, mission.seed).sim.model
-    data = mujoco.MjData(model)
-    steps = round(sim_time / model.opt.timestep)
-    start = time.perf_counter()
-    mujoco.mj_step(model, data, steps)
-    bare = time.perf_counter() - start
-    return sim_time, record.wall_time, bare
+    times = LoopTimes(float(record.outcome.sim_time), record.wall_time)
+    if bare:
+        import bare_replay
+
+        controls = bare_replay.record_controls(lambda: run_mission(mission))
+        model = build_rig(mission, mission.seed).sim.model
+        times.bare_replay, times.replay_error = bare_replay.replay(model, controls)
+        times.bare_resting = bare_replay.resting(model, len(controls.table))
+        times.steps = len(controls.table)
+    return times
 
 
 def mission_figures() -> list[Figure]:
-    """Every bundled mission as a process (loop and whole RTF); cafe_delivery's overhead."""
+    """Every bundled mission as a process (loop and whole RTF); cafe_delivery's overhead
+    against bare ``mj_step`` of its model replaying its motion (issue 28: <= 1.5) and, for
+    comparison, stepping the robot at rest."""
     figures = mission_process_figures(_bundled_missions())
     command = "python bench/run.py --only missions"
+    replayed = "cafe_delivery loop / bare mj_step of its model replaying the run's motion"
+    resting = "cafe_delivery loop / bare mj_step of its model, robot at rest"
     try:
-        _sim, wall, bare = _run_in_process("cafe_delivery")
+        times = _run_in_process("cafe_delivery", bare=True)
     except Exception as exc:  # a failing mission is a row of the table
         failed = f"{type(exc).__name__}: {exc}"
-        figures.append(
-            Figure(
-                "cafe_delivery loop / bare mj_step",
-                math.nan,
-                "ratio",
-                3.0,
-                False,
-                command,
-                failed=failed,
-            )
-        )
-    else:
-        figures.append(
-            Figure(
-                "cafe_delivery loop / bare mj_step of its model",
-                wall / bare,
-                "ratio",
-                3.0,
-                False,
-                command,
-            )
-        )
-    return figures
+        return [*figures, Figure(replayed, math.nan, "ratio", 1.5, False, command, failed=failed)]
+    assert times.bare_replay is not None and times.bare_resting is not None
+    steps = times.steps
+    drift = None
+    if times.replay_error > 1e-9:
+        drift = f"the replay ended {times.replay_error:.3g} away from the run"
+    return [
+        *figures,
+        Figure(
+            replayed, times.loop / times.bare_replay, "ratio", 1.5, False, command, failed=drift
+        ),
+        Figure(resting, times.loop / times.bare_resting, "ratio", None, False, command),
+        Figure(
+            "cafe_delivery loop per physics step",
+            1e6 * times.loop / steps,
+            "us",
+            None,
+            False,
+            command,
+        ),
+        Figure(
+            "cafe_delivery bare mj_step replaying the run, per step",
+            1e6 * times.bare_replay / steps,
+            "us",
+            None,
+            False,
+            command,
+        ),
+    ]
 
 
 def get_path_figures() -> list[Figure]:
@@ -148,8 +183,8 @@ def robot_figures() -> list[Figure]:
     figures: list[Figure] = []
     factors: dict[str, float] = {}
     for robot in MOBILE_ROBOTS:
-        sim_time, wall, _ = _run_in_process(ROBOT_MISSION, robot=robot)
-        factors[robot] = sim_time / wall
+        times = _run_in_process(ROBOT_MISSION, robot=robot)
+        factors[robot] = times.sim_time / times.loop
         figures.append(
             Figure(
                 f"real-time factor {ROBOT_MISSION} on {robot}",

@@ -20,7 +20,6 @@ from baobab.nav.checkers import SimpleGoalChecker, SimpleProgressChecker
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_filters import SpeedLimit
 from baobab.nav.errors import FollowPathError, NavigationError
-from baobab.nav.feedback import path_tracking
 from baobab.nav.interfaces import MobileBase
 from baobab.nav.path import Path
 from baobab.nav.pure_pursuit import RegulatedPurePursuit, RegulatedPurePursuitParams
@@ -160,7 +159,7 @@ class PathFollower:
     def _tracking(self, path: Path, pose: Pose2D, speed: float, remaining: float) -> dict[str, Any]:
         """Nav2's ``TrackingFeedback`` fields (m, rad, m/s) of this cycle (a nested dict, so
         that the run's trace, which keeps the scalar feedback fields, is unchanged)."""
-        tracking = path_tracking(path, self.controller.closest_index, pose.x, pose.y, pose.yaw)
+        tracking = self.controller.tracking
         goal = path.goal
         return {
             "position_tracking_error": tracking.position_error,

@@ -5,7 +5,8 @@ Nav2's BT navigators fill NavigateToPose / NavigateThroughPoses feedback on ever
 the pose closest to the robot (searched within a window ahead of the last closest pose), and
 ``estimated_time_remaining`` is that distance over the odometry speed averaged over
 ``filter_duration``, or 0 when the robot barely moves or is almost there. The controller's
-``TrackingFeedback`` (:func:`path_tracking`) says how far the robot is off its path.
+``TrackingFeedback`` (:func:`path_tracking`) says how far the robot is off its path; the
+controller's compiled cycle computes it (:mod:`baobab.nav.tracking_kernel`, tested against this).
 """
 
 from __future__ import annotations

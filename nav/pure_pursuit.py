@@ -35,6 +35,7 @@ from baobab.nav import rpp_kernel as kernel
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_filters import SpeedLimit, applied_speed
 from baobab.nav.errors import CollisionAheadError, FollowPathError, NavigationError
+from baobab.nav.feedback import PathTracking
 from baobab.nav.path import Path
 from baobab.robots.catalog import default_mobile_robot
 from baobab.sim.records import record
@@ -99,6 +100,9 @@ class RegulatedPurePursuit:
     Attributes:
         last_carrot: map-frame ``(x, y)`` of the last carrot, for display.
         closest_index: index in the path of the pose nearest to the robot.
+        tracking: the tracking errors of the last cycle against the path near
+            ``closest_index`` (:func:`baobab.nav.feedback.path_tracking`, computed in the
+            compiled cycle).
     """
 
     def __init__(self, params: RegulatedPurePursuitParams | None = None) -> None:
@@ -108,6 +112,7 @@ class RegulatedPurePursuit:
         self._along = np.zeros(1)
         self.closest_index = 0
         self.last_carrot: tuple[float, float] | None = None
+        self.tracking = PathTracking(0.0, 0.0, 0)
 
     def set_speed_limit(self, limit: SpeedLimit | None) -> None:
         """Nav2's ``setSpeedLimit``: the top speed becomes ``desired_linear_vel`` limited by
@@ -157,6 +162,7 @@ class RegulatedPurePursuit:
             self._settings,
         )
         self.closest_index = step.closest
+        self.tracking = PathTracking(step.position_error, step.heading_error, step.tracking_index)
         if step.status == kernel.NO_POSE_NEAR:
             raise NavigationError(
                 FollowPathError.INVALID_PATH,

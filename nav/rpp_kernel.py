@@ -3,10 +3,12 @@
 One call of :func:`rpp_step` does a whole control cycle of
 :class:`~baobab.nav.pure_pursuit.RegulatedPurePursuit`: prune and transform the plan, pick the
 carrot, choose rotate-in-place or the regulated speed, clamp, and project the motion ahead for
-collisions. Compiled because the cycle walks the plan pose by pose and steps the projected
-motion cell by cell: in Python that was hundreds of small float operations, the controller's
-largest cost per cycle. The tests compare it with a plain Python controller
-(``tests/test_rpp_kernel.py``), which does the same float operations and so gives the same bits.
+collisions; and it measures the controller server's tracking errors against the pose it found
+closest (:mod:`baobab.nav.tracking_kernel`). Compiled because the cycle walks the plan pose by
+pose and steps the projected motion cell by cell: in Python that was hundreds of small float
+operations, the controller's largest cost per cycle. The tests compare it with a plain Python
+controller (``tests/test_rpp_kernel.py``), which does the same float operations and so gives
+the same bits.
 
 The kernel reads two records (:mod:`baobab.sim.records`): the settings (:data:`RPP_SETTINGS`,
 from :meth:`~baobab.nav.pure_pursuit.RegulatedPurePursuitParams.pack`) and the local costmap's
@@ -30,6 +32,7 @@ from baobab.nav.costmap import (
     CostmapArrays,
 )
 from baobab.nav.footprint_kernel import footprint_collides
+from baobab.nav.tracking_kernel import track
 from baobab.sim.records import Record
 
 OK = 0
@@ -94,6 +97,13 @@ class PursuitStep(NamedTuple):
     """m."""
     extent: float
     """The costmap's half extent (m)."""
+    position_error: float
+    """Nav2's tracking errors against the path near ``closest``
+    (:func:`~baobab.nav.tracking_kernel.track`): the signed distance (m) off the path..."""
+    heading_error: float
+    """... the path's direction minus the robot's heading (rad) ..."""
+    tracking_index: int
+    """... and the index of the path segment they refer to."""
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -300,8 +310,12 @@ def rpp_step(
     if math.isnan(search_dist):
         search_dist = extent
     closest, local = _local_plan(poses, along, begin, pose, search_dist, extent)
+    off_path, off_heading, segment = track(poses, closest, x, y, yaw)
     if local.shape[0] == 0:
-        return PursuitStep(NO_POSE_NEAR, closest, 0.0, 0.0, math.nan, math.nan, extent)
+        nan = math.nan
+        return PursuitStep(
+            NO_POSE_NEAR, closest, 0.0, 0.0, nan, nan, extent, off_path, off_heading, segment
+        )
     last = local.shape[0] - 1
 
     if s.use_velocity_scaled_lookahead_dist:
@@ -333,4 +347,6 @@ def rpp_step(
         cells, g, outline, pose, (linear, angular), carrot_dist, s
     ):
         status = COLLISION_AHEAD
-    return PursuitStep(status, closest, linear, angular, map_x, map_y, extent)
+    return PursuitStep(
+        status, closest, linear, angular, map_x, map_y, extent, off_path, off_heading, segment
+    )

@@ -2,7 +2,8 @@
 
 The run loop asks :meth:`FaultMonitors.check` once per tick (10 Hz). Each monitor reads a few
 numbers through the robot's public API and named MuJoCo access, keeps no history beyond a
-timestamp, and allocates nothing per call (the scan buffers are made once):
+timestamp, and allocates nothing per call (a scan's roughness is one compiled pass,
+:mod:`~baobab.missions.run.scan_roughness_kernel`):
 
 - ``ROBOT_DISPLACED``: the pose moved farther between two checks than the robot can drive
   (a kidnapped robot; a localisation jump on a real one).
@@ -30,6 +31,7 @@ import mujoco
 import numpy as np
 
 from baobab.missions.run.rig import MobileRig, Rig
+from baobab.missions.run.scan_roughness_kernel import rough_pairs
 from baobab.missions.run.tick_loop import MissionErrorCode
 from baobab.robots.catalog import default_mobile_robot
 from baobab.robots.diff_drive.robot import MobileRobot
@@ -150,11 +152,7 @@ class FaultMonitors(DivergenceWatch):
         self._last_scan_stamp = -math.inf
         self._degraded_since: float | None = None
         self._mismatch_since: list[float | None] = [None, None]
-        beams = self.lidar.beams
-        self._differences = np.empty(beams - 1)
-        self._finite = np.empty(beams, dtype=bool)
-        self._pairs = np.empty(beams - 1, dtype=bool)
-        self._rough = np.empty(beams - 1, dtype=bool)
+        self._beams = self.lidar.beams
 
     def check(self, now: float) -> Detection | None:
         """The first fault seen at ``now`` (s of sim time), or None."""
@@ -224,18 +222,12 @@ class FaultMonitors(DivergenceWatch):
 
     def _rough_share(self, ranges: np.ndarray) -> float | None:
         """Share of neighbouring beam pairs (both with a return) more than rough_step apart."""
-        if ranges.shape[0] != self._finite.shape[0]:
+        if ranges.shape[0] != self._beams:
             return None
-        np.isfinite(ranges, out=self._finite)
-        np.logical_and(self._finite[1:], self._finite[:-1], out=self._pairs)
-        pairs = int(np.count_nonzero(self._pairs))
+        pairs, rough = rough_pairs(ranges, self.params.rough_step)
         if pairs < self.params.min_pairs:
             return None
-        self._differences.fill(0.0)
-        np.subtract(ranges[1:], ranges[:-1], out=self._differences, where=self._pairs)
-        np.abs(self._differences, out=self._differences)
-        np.greater(self._differences, self.params.rough_step, out=self._rough)
-        return int(np.count_nonzero(self._rough)) / pairs
+        return rough / pairs
 
     def _wheel_speeds(self, now: float) -> Detection | None:
         p = self.params
