@@ -14,6 +14,7 @@ import argparse
 import collections
 import time
 from collections.abc import Callable
+from typing import Any
 
 import mujoco
 
@@ -38,10 +39,13 @@ def _timed(name: str, work: Callable[..., object]) -> Callable[..., object]:
     return run
 
 
-def _install_timers() -> None:
+def wrap_callbacks(wrap: Callable[[str, Callable[..., Any]], Callable[..., Any]]) -> None:
+    """From now on, pass every periodic callback a simulation schedules
+    (:meth:`Simulation.every`, by its name) and every ``mj_step`` batch through
+    ``wrap(name, work)``."""
     every = simulation.Simulation.every
 
-    def timed_every(
+    def wrapped_every(
         self: simulation.Simulation,
         period: float,
         callback: simulation.Callback,
@@ -49,10 +53,10 @@ def _install_timers() -> None:
         name: str,
         first_call: float | None = None,
     ) -> simulation.PeriodicHandle:
-        return every(self, period, _timed(name, callback), name=name, first_call=first_call)
+        return every(self, period, wrap(name, callback), name=name, first_call=first_call)
 
-    simulation.Simulation.every = timed_every  # type: ignore[method-assign]
-    simulation.mujoco.mj_step = _timed("physics (mj_step)", mujoco.mj_step)  # type: ignore[attr-defined]
+    simulation.Simulation.every = wrapped_every  # type: ignore[method-assign]
+    simulation.mujoco.mj_step = wrap("physics (mj_step)", mujoco.mj_step)  # type: ignore[attr-defined]
 
 
 def measure(name: str) -> None:
@@ -79,7 +83,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("missions", nargs="*", default=["cafe_delivery"])
     args = parser.parse_args()
-    _install_timers()
+    wrap_callbacks(_timed)
     for name in args.missions:
         measure(name)
 

@@ -27,12 +27,11 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-import mujoco
+from bench_callbacks import wrap_callbacks  # beside this script
 
 from baobab.missions.language.bundled_missions import resolve_mission
 from baobab.missions.language.loader import load_mission
 from baobab.missions.run.runner import run_mission
-from baobab.sim import simulation
 
 _self: collections.defaultdict[str, float] = collections.defaultdict(float)
 _calls: collections.Counter[str] = collections.Counter()
@@ -104,28 +103,19 @@ def _timed(part: str, work: Callable[..., Any]) -> Callable[..., Any]:
     return run
 
 
+def _part(name: str) -> str:
+    """The part a periodic callback (by its name) or ``mj_step`` counts to."""
+    if name.startswith("lidar"):
+        return "lidar scan (5 Hz)"
+    if name.startswith("nav control"):
+        return "nav tick: server, task and BT glue"
+    if name.startswith(("nav local", "nav global")):
+        return "costmap: scheduling"
+    return name if name.startswith("physics") else f"callback {name}"
+
+
 def _install_timers() -> None:
-    every = simulation.Simulation.every
-
-    def timed_every(
-        self: simulation.Simulation,
-        period: float,
-        callback: simulation.Callback,
-        *,
-        name: str,
-        first_call: float | None = None,
-    ) -> simulation.PeriodicHandle:
-        label = f"callback {name}"
-        if name.startswith("lidar"):
-            label = "lidar scan (5 Hz)"
-        elif name.startswith("nav control"):
-            label = "nav tick: server, task and BT glue"
-        elif name.startswith("nav local") or name.startswith("nav global"):
-            label = "costmap: scheduling"
-        return every(self, period, _timed(label, callback), name=name, first_call=first_call)
-
-    simulation.Simulation.every = timed_every  # type: ignore[method-assign]
-    simulation.mujoco.mj_step = _timed("physics (mj_step)", mujoco.mj_step)  # type: ignore[attr-defined]
+    wrap_callbacks(lambda name, work: _timed(_part(name), work))
     for module_name, class_name, method, part in METHODS:
         cls = getattr(importlib.import_module(module_name), class_name)
         if method in vars(cls):
