@@ -195,3 +195,14 @@ def test_a_changed_module_makes_the_server_decline_and_leave(tmp_path: Path) -> 
         assert path is not None and path.with_suffix(".log").exists()  # a fresh server started
     finally:
         server.stop()
+
+
+def test_with_the_server_off_a_run_starts_none(tmp_path: Path) -> None:
+    folder = Path(tempfile.mkdtemp(prefix="bb-", dir="/tmp"))
+    try:
+        environ = {**os.environ, "BAOBAB_RUN_SERVER": "0", "BAOBAB_RUN_SERVER_DIR": str(folder)}
+        done = _run(["run", "walls_go_to_goal", "--out", "run"], tmp_path, environ)
+        assert done.returncode == 0, done.stderr
+        assert list(folder.iterdir()) == []  # no socket, lock or log: no server was started
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
