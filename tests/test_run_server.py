@@ -206,3 +206,13 @@ def test_with_the_server_off_a_run_starts_none(tmp_path: Path) -> None:
         assert list(folder.iterdir()) == []  # no socket, lock or log: no server was started
     finally:
         shutil.rmtree(folder, ignore_errors=True)
+
+
+def test_a_worker_killed_outright_is_reported_by_its_caller(server: Server, tmp_path: Path) -> None:
+    process = _long_run_started(server, tmp_path, stdout=subprocess.DEVNULL)
+    worker = int(server.next_line().split("worker ")[1].split(":")[0])
+    os.kill(worker, signal.SIGKILL)
+    _, stderr = process.communicate(timeout=300)
+    assert process.returncode == 128 + signal.SIGKILL
+    assert stderr.splitlines()[-1] == "baobab run: the run's process was killed by SIGKILL"
+    assert f"ended with exit code {128 + signal.SIGKILL}" in server.next_line()

@@ -51,6 +51,9 @@ def run_in_server(arguments: Sequence[str]) -> int | None:
                 forwarding.to(value)
             elif kind == "ended":
                 return int(value)
+            elif kind == "killed":  # the worker could not say it (SIGKILL, the OOM killer)
+                name = signal.Signals(value).name
+                print(f"baobab run: the run's process was killed by {name}", file=sys.stderr)
             else:  # declined: run here, unless a signal came meanwhile
                 return forwarding.exit_code()
     except (EOFError, OSError) as exc:

@@ -187,10 +187,10 @@ def handle(channel: Channel, fingerprint: Stamps, unsafe: str | None, server: in
     _log(f"worker {worker}: baobab {' '.join(command.argv[1:])}")
     with contextlib.suppress(OSError):
         channel.send(("started", worker))
-    code = _wait(worker, channel.connection)
+    code = _wait(worker, channel)
     _log(f"worker {worker} ended with exit code {code}")
     with contextlib.suppress(OSError):
-        channel.send(("ended", code))
+        channel.send(("ended", code))  # 128 + N: killed by signal N, or ended by it
     os._exit(0)
 
 
@@ -208,9 +208,11 @@ def _declined(command: object, fingerprint: Stamps) -> str | None:
     return None
 
 
-def _wait(worker: int, connection: socket.socket) -> int:
-    """Wait for ``worker``; if the caller goes away meanwhile, hang its run up. Its exit code."""
+def _wait(worker: int, channel: Channel) -> int:
+    """Wait for ``worker``; if the caller goes away meanwhile, hang its run up. Its exit code
+    (``128 + N`` when signal N killed it; the caller says so, the worker could not)."""
     ended = os.pidfd_open(worker)
+    connection = channel.connection
     watched: list[int | socket.socket] = [ended, connection]
     while True:
         ready, _, _ = select.select(watched, [], [])
@@ -220,8 +222,11 @@ def _wait(worker: int, connection: socket.socket) -> int:
             os.kill(worker, signal.SIGHUP)
             watched = [ended]
     _pid, status = os.waitpid(worker, 0)
-    code = os.waitstatus_to_exitcode(status)
-    return code if code >= 0 else 128 - code
+    if os.WIFSIGNALED(status):
+        with contextlib.suppress(OSError):
+            channel.send(("killed", os.WTERMSIG(status)))
+        return 128 + os.WTERMSIG(status)
+    return os.waitstatus_to_exitcode(status)
 
 
 def become_worker(command: ServedCommand, fds: list[int]) -> NoReturn:
