@@ -199,33 +199,27 @@ def _substituted(kind: str, substitute: str, rows: tuple[Mapped, ...] = ()) -> P
     return PluginInfo(kind, False, rows, substitute)
 
 
+def _rpp_substitute(linear: str, angular: str) -> PluginInfo:
+    """A controller Regulated Pure Pursuit stands in for, taking its top speed and turn rate
+    from its parameters ``linear`` (m/s) and ``angular`` (rad/s)."""
+    return _substituted(
+        "controller",
+        f"Regulated Pure Pursuit with its {linear} and {angular}",
+        (
+            _speed(linear, "desired_linear_vel", "m/s", "top forward speed"),
+            _speed(angular, "max_angular_vel", "rad/s", "top turn rate"),
+        ),
+    )
+
+
 _BEHAVIORS = ("Spin", "BackUp", "DriveOnHeading", "Wait", "AssistedTeleop")
 
 PLUGINS: dict[str, PluginInfo] = {
     _RPP_CLASS: _native("controller", PLUGIN_ROWS[_RPP_CLASS]),
-    "nav2_mppi_controller::MPPIController": _substituted(
-        "controller",
-        "Regulated Pure Pursuit with its vx_max and wz_max",
-        (
-            _speed("vx_max", "desired_linear_vel", "m/s", "top forward speed"),
-            _speed("wz_max", "max_angular_vel", "rad/s", "top turn rate"),
-        ),
-    ),
-    "dwb_core::DWBLocalPlanner": _substituted(
-        "controller",
-        "Regulated Pure Pursuit with its max_vel_x and max_vel_theta",
-        (
-            _speed("max_vel_x", "desired_linear_vel", "m/s", "top forward speed"),
-            _speed("max_vel_theta", "max_angular_vel", "rad/s", "top turn rate"),
-        ),
-    ),
-    "nav2_graceful_controller::GracefulController": _substituted(
-        "controller",
-        "Regulated Pure Pursuit with its v_linear_max and v_angular_max",
-        (
-            _speed("v_linear_max", "desired_linear_vel", "m/s", "top forward speed"),
-            _speed("v_angular_max", "max_angular_vel", "rad/s", "top turn rate"),
-        ),
+    "nav2_mppi_controller::MPPIController": _rpp_substitute("vx_max", "wz_max"),
+    "dwb_core::DWBLocalPlanner": _rpp_substitute("max_vel_x", "max_vel_theta"),
+    "nav2_graceful_controller::GracefulController": _rpp_substitute(
+        "v_linear_max", "v_angular_max"
     ),
     "nav2_rotation_shim_controller::RotationShimController": _substituted(
         "controller",
