@@ -216,7 +216,7 @@ def configure_navigation(
     builder.result.masks = masks
     result = builder.result
     result.params = _with_changes(builder.base, builder.changes)
-    _sort_leftovers(builder)
+    _sort_leftovers(builder, uses)
     return result
 
 
@@ -311,10 +311,11 @@ def _apply_plugin(builder: _Builder, use: PluginUse) -> None:
         builder.apply_rows(use.node, f"{use.instance}.{source}.", use.source_rows)
 
 
-def _sort_leftovers(builder: _Builder) -> None:
-    """File parameters nobody used: ROS-only ones, unused ones by plugin, other nodes."""
+def _sort_leftovers(builder: _Builder, uses: Iterable[PluginUse]) -> None:
+    """File parameters nobody used: ROS-only ones, unused ones by plugin (``uses``), other
+    nodes."""
     result = builder.result
-    groups = _instance_groups(builder)
+    groups = _instance_groups(uses)
     for node, parameters in builder.file.nodes.items():
         if node != ALL_NODES and node not in MAPPED_NODES:
             if not any(user == node for user, _ in builder.used):  # not a filter's server
@@ -331,10 +332,10 @@ def _sort_leftovers(builder: _Builder) -> None:
             result.unused.setdefault(group, []).append(name)
 
 
-def _instance_groups(builder: _Builder) -> dict[tuple[str, str], str]:
+def _instance_groups(uses: Iterable[PluginUse]) -> dict[tuple[str, str], str]:
     """(node, instance) -> ``node/instance (Class)`` for the plugin instances the file has."""
     groups: dict[tuple[str, str], str] = {}
-    for use in plugin_uses(builder.file, substitute=True):
+    for use in uses:
         groups[(use.node, use.instance)] = f"{use.node}/{use.instance} ({use.plugin_class})"
     return groups
 
