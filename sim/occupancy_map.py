@@ -25,6 +25,7 @@ import hashlib
 import math
 import os
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -185,13 +186,11 @@ class OccupancyMap:
             self._solid[key] = cached
         return cached
 
-    @property
+    @cached_property
     def _solid(self) -> dict[bool, np.ndarray]:
-        store: dict[bool, np.ndarray] | None = self.__dict__.get("_solid_cache")
-        if store is None:
-            store = {}
-            object.__setattr__(self, "_solid_cache", store)
-        return store
+        """:meth:`solid`'s arrays, by ``unknown_is_solid`` (``cached_property`` writes the
+        instance's ``__dict__``, which a frozen dataclass allows)."""
+        return {}
 
 
 def load_occupancy_map(
