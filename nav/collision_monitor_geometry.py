@@ -88,13 +88,6 @@ def point_inside(points: Sequence[Point], x: float, y: float) -> bool:
     return inside
 
 
-def edge_distance(points: Sequence[Point], x: float, y: float) -> float:
-    """Distance (m) from ``(x, y)`` to the polygon's nearest edge."""
-    return min(
-        _segment_distance(x, y, a, b) for a, b in zip(points, [*points[1:], points[0]], strict=True)
-    )
-
-
 def contains_footprint(points: Sequence[Point] | None, radius: float, footprint: Footprint) -> bool:
     """True when the zone (``points``, or a circle of ``radius`` without them) holds the
     whole ``footprint``."""
@@ -107,9 +100,9 @@ def contains_footprint(points: Sequence[Point] | None, radius: float, footprint:
             for a in zip(points, [*points[1:], points[0]], strict=True)
             for b in zip(outline, [*outline[1:], outline[0]], strict=True)
         )
-    return point_inside(points, 0.0, 0.0) and edge_distance(points, 0.0, 0.0) >= (
-        footprint.radius - 1e-9
-    )
+    # the zone's inscribed radius: the distance from base_footprint to its nearest edge
+    nearest_edge = Footprint(polygon=tuple(points)).inscribed_radius
+    return point_inside(points, 0.0, 0.0) and nearest_edge >= footprint.radius - 1e-9
 
 
 def describe_footprint(footprint: Footprint) -> str:
@@ -117,14 +110,6 @@ def describe_footprint(footprint: Footprint) -> str:
     if footprint.radius is None:
         return f"a polygon of {len(footprint.polygon)} points"
     return f"a circle of radius {footprint.radius:g} m"
-
-
-def _segment_distance(x: float, y: float, a: Point, b: Point) -> float:
-    (ax, ay), (bx, by) = a, b
-    dx, dy = bx - ax, by - ay
-    length = dx * dx + dy * dy
-    t = 0.0 if length == 0 else min(max(((x - ax) * dx + (y - ay) * dy) / length, 0.0), 1.0)
-    return math.hypot(x - ax - t * dx, y - ay - t * dy)
 
 
 def _segments_cross(a: Point, b: Point, c: Point, d: Point) -> bool:
