@@ -17,6 +17,7 @@ from baobab.behaviours.ports import NAVIGATION
 from baobab.behaviours.poses import MissionScope
 from baobab.behaviours.registry import BehaviourType, BuildRequest, NodeKind, NodeParams
 from baobab.sim.errors import unknown_name
+from baobab.sim.moving_objects import absolute_topic
 from baobab.sim.yaml_source import FieldValueError
 
 if TYPE_CHECKING:  # imported by the factory, when a tree is built (validation needs none)
@@ -41,8 +42,7 @@ class FollowObjectParams(NodeParams):
             return self
         if self.topic is not None:
             topics = [item.pose_topic for item in world.moving_objects]
-            topic = self.topic if self.topic.startswith("/") else f"/{self.topic}"
-            if topic not in topics:
+            if absolute_topic(self.topic) not in topics:
                 what = "moving object topic"
                 raise FieldValueError(("topic",), unknown_name(what, self.topic, topics))
         elif self.frame not in (frames := [item.tf_frame for item in world.moving_objects]):

@@ -18,6 +18,7 @@ from pydantic import ConfigDict, Field, ValidationInfo, model_validator
 from baobab.behaviours.ports import NAVIGATION
 from baobab.behaviours.poses import MissionScope, Pose
 from baobab.behaviours.registry import BehaviourType, BuildRequest, NodeKind, NodeParams
+from baobab.sim.datum import Latitude, Longitude
 from baobab.sim.yaml_models import YamlModel
 from baobab.sim.yaml_source import FieldValueError
 
@@ -34,12 +35,8 @@ class GpsWaypoint(YamlModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    latitude: Annotated[float, Field(ge=-90, le=90, allow_inf_nan=False)] = Field(
-        description="deg, north positive"
-    )
-    longitude: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = Field(
-        description="deg, east positive"
-    )
+    latitude: Latitude = Field(description="deg, north positive")
+    longitude: Longitude = Field(description="deg, east positive")
     altitude: Finite | None = Field(
         default=None, description="m above the WGS84 ellipsoid; default: the datum's"
     )

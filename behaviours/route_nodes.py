@@ -18,12 +18,13 @@ from pydantic import Field, ValidationInfo, model_validator
 from baobab.behaviours.ports import NAVIGATION
 from baobab.behaviours.poses import GoalPose, MissionScope, Pose, PoseRef
 from baobab.behaviours.registry import BehaviourType, BuildRequest, NodeKind, NodeParams
+from baobab.sim.route_graph_file import MAX_ID
 from baobab.sim.yaml_source import FieldValueError
 
 if TYPE_CHECKING:  # imported by the factory, when a tree is built (validation needs none)
     import py_trees
 
-NodeId = Annotated[int, Field(ge=0, le=65_535, description="a route graph node id")]
+NodeId = Annotated[int, Field(ge=0, le=MAX_ID, description="a route graph node id")]
 
 
 class FollowRouteParams(NodeParams):

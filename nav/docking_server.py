@@ -115,11 +115,9 @@ class DockingServer:
     ) -> TaskHandle:
         """Dock at the database's dock ``dock_id``, or at ``dock_pose`` (map frame, m and
         rad) of ``dock_type`` when no id is given."""
-        target = self._target(dock_id, dock_pose, dock_type, navigate_to_staging_pose)
-        if isinstance(target, DockTarget):
-            target = DockTarget(
-                target.pose, target.dock_type, target.navigate_to_staging_pose, max_staging_time
-            )
+        target = self._target(
+            dock_id, dock_pose, dock_type, navigate_to_staging_pose, max_staging_time
+        )
         return self._tasks.submit(DOCK_ACTION, lambda: DockTask(self.context, target), None)
 
     def undock_robot(self, dock_type: str = "", max_undocking_time: float = 30.0) -> TaskHandle:
@@ -149,7 +147,12 @@ class DockingServer:
             self._lidar.unsubscribe(self._scans)
 
     def _target(
-        self, dock_id: str, dock_pose: Pose2D | None, dock_type: str, navigate: bool
+        self,
+        dock_id: str,
+        dock_pose: Pose2D | None,
+        dock_type: str,
+        navigate: bool,
+        max_staging_time: float,
     ) -> Any:
         if dock_id or dock_pose is None:
             dock = self.database.get(dock_id)
@@ -159,7 +162,7 @@ class DockingServer:
                     DockRobotError.DOCK_NOT_IN_DB,
                     f"dock '{dock_id}' is not in the dock database (docks: {known})",
                 )
-            return DockTarget(pose_of(dock), dock.type, navigate, 1000.0)
+            return DockTarget(pose_of(dock), dock.type, navigate, max_staging_time)
         if dock_type == "" and len(DOCK_TYPES) == 1:
             dock_type = DOCK_TYPES[0]
         if dock_type not in DOCK_TYPES:
@@ -167,7 +170,7 @@ class DockingServer:
                 DockRobotError.DOCK_NOT_VALID,
                 f"dock type '{dock_type}' has no plugin (types: {', '.join(DOCK_TYPES)})",
             )
-        return DockTarget(dock_pose, dock_type, navigate, 1000.0)
+        return DockTarget(dock_pose, dock_type, navigate, max_staging_time)
 
 
 class _DockAction:

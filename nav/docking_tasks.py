@@ -160,15 +160,7 @@ class DockTask:
         target = self._target
         if isinstance(target, _DockingError):
             raise target
-        handlers = {
-            DockState.NONE: self._start,
-            DockState.NAV_TO_STAGING_POSE: self._stage,
-            DockState.INITIAL_PERCEPTION: self._perceive,
-            DockState.CONTROLLING: self._approach,
-            DockState.WAIT_FOR_CHARGE: self._wait_for_charge,
-            DockState.RETRY: self._reset_approach,
-        }
-        return handlers[self.state](now, target)
+        return _STEPS[self.state](self, now, target)
 
     def _start(self, now: float, target: DockTarget) -> TaskOutcome | None:
         context = self._context
@@ -293,6 +285,17 @@ class DockTask:
             self._last_seen = now
             self._enter(DockState.CONTROLLING, now)
         return None
+
+
+_STEPS: dict[DockState, Callable[[DockTask, float, DockTarget], TaskOutcome | None]] = {
+    DockState.NONE: DockTask._start,
+    DockState.NAV_TO_STAGING_POSE: DockTask._stage,
+    DockState.INITIAL_PERCEPTION: DockTask._perceive,
+    DockState.CONTROLLING: DockTask._approach,
+    DockState.WAIT_FOR_CHARGE: DockTask._wait_for_charge,
+    DockState.RETRY: DockTask._reset_approach,
+}
+"""What a docking task does on a tick in each state (built once, not per tick)."""
 
 
 def drive_to(context: DockingContext, goal: Pose2D, *, backward: bool) -> bool:

@@ -22,7 +22,7 @@ import numpy as np
 from baobab.nav.interfaces import ScanSource
 from baobab.sim.lidar import LaserScan
 from baobab.sim.moving_object_motion import moving_object_pose
-from baobab.sim.moving_objects import MovingObject
+from baobab.sim.moving_objects import MovingObject, absolute_topic
 from baobab.sim.simulation import Simulation
 from baobab.sim.world import Pose2D
 
@@ -69,7 +69,7 @@ class ObjectPoses:
 
     def latest(self, topic: str) -> Detection | None:
         """The last pose published on ``topic``, or None if none ever was."""
-        return self._latest.get(_absolute(topic))
+        return self._latest.get(absolute_topic(topic))
 
     def frame(self, frame: str) -> Pose2D | None:
         """The pose of TF frame ``frame`` now, or None when no object has that frame."""
@@ -107,10 +107,6 @@ def sees(scan: LaserScan, x: float, y: float, radius: float) -> bool:
     ranges = scan.ranges[beams]
     hits = np.isfinite(ranges) & (np.abs(ranges - near_side) < SEEN_TOLERANCE + radius / 2)
     return bool(hits.any())
-
-
-def _absolute(topic: str) -> str:
-    return topic if topic.startswith("/") else f"/{topic}"
 
 
 __all__ = ["SEEN_TOLERANCE", "Detection", "ObjectPoses", "sees"]

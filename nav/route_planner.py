@@ -42,6 +42,15 @@ def line_costs(
     return costmap.costs(xs, ys)
 
 
+def line_blocked(
+    costmap: Costmap2D, start: tuple[float, float], end: tuple[float, float], max_cost: int
+) -> bool:
+    """True when a cell under the segment from ``start`` to ``end`` (m) costs ``max_cost`` or
+    more; where the segment leaves the grid nothing blocks it."""
+    costs = line_costs(costmap, start, end)
+    return bool(((costs >= max_cost) & (costs != NO_INFORMATION)).any())
+
+
 class EdgeScorer:
     """Scores edges for the search; None means the edge may not be used.
 

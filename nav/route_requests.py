@@ -21,11 +21,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from baobab.nav.costmap import NO_INFORMATION, Costmap2D
+from baobab.nav.costmap import Costmap2D
 from baobab.nav.errors import ComputeRouteError, NavigationError
 from baobab.nav.path import Path
 from baobab.nav.route_graph import Route, RouteParams, SearchGraph
-from baobab.nav.route_planner import EdgeScorer, find_route, line_costs
+from baobab.nav.route_planner import EdgeScorer, find_route, line_blocked
 from baobab.sim.route_graph_file import GraphEdge, GraphNode
 from baobab.sim.world import Pose2D
 
@@ -141,8 +141,7 @@ class RoutePlanning:
         if grid is None:
             return candidates[0]
         for node in candidates:
-            costs = line_costs(grid, (pose.x, pose.y), (node.x, node.y))
-            if not np.any((costs >= self.params.max_cost) & (costs != NO_INFORMATION)):
+            if not line_blocked(grid, (pose.x, pose.y), (node.x, node.y), self.params.max_cost):
                 return node
         return candidates[0]
 

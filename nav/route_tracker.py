@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from baobab.nav import msgs
-from baobab.nav.costmap import NO_INFORMATION, Costmap2D
+from baobab.nav.costmap import Costmap2D
 from baobab.nav.errors import ComputeAndTrackRouteError, NavigationError
 from baobab.nav.interfaces import FEEDBACK_KEY, FEEDBACK_QUEUE_KEY, MobileBase
 from baobab.nav.navigator_messages import path_message
@@ -39,7 +39,7 @@ from baobab.nav.ros.nav2_msgs.msg import Route as RouteMessage
 from baobab.nav.ros.nav2_msgs.msg import RouteEdge, RouteNode
 from baobab.nav.rostime import ClockType, Time
 from baobab.nav.route_graph import Route, RouteParams
-from baobab.nav.route_planner import line_costs
+from baobab.nav.route_planner import line_blocked
 from baobab.nav.route_requests import Rerouting, RoutePlanning, RouteRequest, closest_point
 from baobab.sim.route_graph_file import GraphEdge, GraphNode
 from baobab.sim.tasks import TaskOutcome, TaskStatus
@@ -299,8 +299,7 @@ class RouteTracking:
                     start[0] + fraction * (end[0] - start[0]),
                     start[1] + fraction * (end[1] - start[1]),
                 )
-            costs = line_costs(costmap, start, end)
-            if ((costs >= self.params.max_cost) & (costs != NO_INFORMATION)).any():
+            if line_blocked(costmap, start, end, self.params.max_cost):
                 return edge.id
             budget -= length
             if last or not following:

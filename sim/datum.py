@@ -23,17 +23,19 @@ MAX_ALTITUDE = 20_000.0
 """Highest datum altitude (m): well above any mountain."""
 
 
+Latitude = Annotated[float, Field(ge=-90, le=90, allow_inf_nan=False)]
+"""A WGS84 latitude (deg, north positive) as YAML models check it."""
+Longitude = Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)]
+"""A WGS84 longitude (deg, east positive) as YAML models check it."""
+
+
 class Datum(YamlModel):
     """The map origin's latitude and longitude (deg, WGS84), ENU heading and altitude."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    latitude: Annotated[float, Field(ge=-90, le=90, allow_inf_nan=False)] = Field(
-        description="deg, north positive, -90..90"
-    )
-    longitude: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = Field(
-        description="deg, east positive, -180..180"
-    )
+    latitude: Latitude = Field(description="deg, north positive, -90..90")
+    longitude: Longitude = Field(description="deg, east positive, -180..180")
     heading: Annotated[float, Field(ge=-math.tau, le=math.tau, allow_inf_nan=False)] = Field(
         default=0.0, description="ENU yaw of the map's x axis (rad): 0 east, pi/2 north"
     )

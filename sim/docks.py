@@ -23,10 +23,8 @@ from pydantic import ConfigDict, Field, ValidationError, field_validator
 
 from baobab.sim.errors import SourceError, unknown_name
 from baobab.sim.planar_shapes import (
-    Circle,
     Rectangle,
     rectangle_corners,
-    rectangle_distance_at,
     rectangle_meets_circle,
     rectangles_overlap,
 )
@@ -225,16 +223,6 @@ def _first_overlap(part: Rectangle, boxes: list[Any], cylinders: list[Any]) -> s
         if rectangle_meets_circle(part, cylinder):
             return str(cylinder.name)
     return None
-
-
-def dock_clearance_at(x: float, y: float, name: str, dock: Dock) -> float:
-    """Signed distance (m) from (x, y) to the nearest part of ``dock``."""
-    return min(rectangle_distance_at(x, y, part) for part in dock.parts(name))
-
-
-def circle_meets_dock(circle: Circle, name: str, dock: Dock) -> bool:
-    """True when ``circle`` shares area with a part of ``dock``."""
-    return any(rectangle_meets_circle(part, circle) for part in dock.parts(name))
 
 
 class _DatabaseFile(YamlModel):

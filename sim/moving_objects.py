@@ -157,8 +157,7 @@ class MovingObject(_Strict):
     @property
     def pose_topic(self) -> str:
         """The absolute topic its pose is published on."""
-        topic = self.topic or f"{self.name}/pose"
-        return topic if topic.startswith("/") else f"/{topic}"
+        return absolute_topic(self.topic or f"{self.name}/pose")
 
     @property
     def tf_frame(self) -> str:
@@ -312,6 +311,12 @@ def _check_path(
                     f"'{item.name}' (radius {r:g} m) walks into '{obstacle.name}' near "
                     f"({x:.2f}, {y:.2f}); its path must stay clear of the obstacles",
                 )
+
+
+def absolute_topic(topic: str) -> str:
+    """``topic`` with its leading ``/``: how a moving object's pose topic is named and looked
+    up."""
+    return topic if topic.startswith("/") else f"/{topic}"
 
 
 def _distance(x: float, y: float, obstacle: Any) -> float:

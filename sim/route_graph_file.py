@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from baobab.sim.errors import WorldError
+from baobab.sim.errors import SourceError, WorldError
 from baobab.sim.json_source import load_located_json
 from baobab.sim.yaml_source import KeyPath, LocatedDocument
 
@@ -116,8 +116,8 @@ class _GraphReader:
         self.document = document
         self.ids: dict[int, KeyPath] = {}
 
-    def error(self, key_path: KeyPath, message: str) -> WorldError:
-        return WorldError(self.document.path, *self.document.locate(key_path), message)
+    def error(self, key_path: KeyPath, message: str) -> SourceError:
+        return self.document.error(key_path, message, WorldError)
 
     def read(self) -> RouteGraph:
         data = self.document.data

@@ -14,33 +14,24 @@ from collections.abc import Sequence
 from typing import Protocol
 
 from baobab.sim.errors import WorldError
+from baobab.sim.planar_shapes import Circle, Rectangle
 from baobab.sim.route_graph_file import RouteGraph
 
 Point = tuple[float, float]
 
 
-class BoxShape(Protocol):
-    """A box seen from above: ``center`` (m), full side lengths ``size`` (m), ``yaw`` (rad)."""
+class BoxShape(Rectangle, Protocol):
+    """A named box seen from above (a :class:`~baobab.sim.planar_shapes.Rectangle`)."""
 
     @property
     def name(self) -> str: ...
-    @property
-    def center(self) -> tuple[float, float]: ...
-    @property
-    def size(self) -> tuple[float, float]: ...
-    @property
-    def yaw(self) -> float: ...
 
 
-class CircleShape(Protocol):
-    """An upright cylinder seen from above: ``center`` and ``radius`` (m)."""
+class CircleShape(Circle, Protocol):
+    """A named upright cylinder seen from above (a :class:`~baobab.sim.planar_shapes.Circle`)."""
 
     @property
     def name(self) -> str: ...
-    @property
-    def center(self) -> tuple[float, float]: ...
-    @property
-    def radius(self) -> float: ...
 
 
 class Floorplan(Protocol):
