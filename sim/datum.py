@@ -14,8 +14,7 @@ from typing import Annotated
 
 from pydantic import ConfigDict, Field, model_validator
 
-from baobab.sim.yaml_models import YamlModel
-from baobab.sim.yaml_source import FieldValueError
+from baobab.sim.yaml_models import YamlModel, degrees_in_place
 
 MIN_ALTITUDE = -11_000.0
 """Lowest datum altitude (m above the ellipsoid): below the deepest ocean trench."""
@@ -46,19 +45,5 @@ class Datum(YamlModel):
     @model_validator(mode="before")
     @classmethod
     def _degrees(cls, value: object) -> object:
-        if isinstance(value, dict) and "heading_deg" in value:
-            if "heading" in value:
-                raise FieldValueError(
-                    ("heading_deg",), "give either heading (radians) or heading_deg, not both"
-                )
-            value = dict(value)
-            degrees = value.pop("heading_deg")
-            if isinstance(degrees, int | float) and not isinstance(degrees, bool):
-                if not abs(degrees) <= 360:
-                    raise FieldValueError(
-                        ("heading_deg",), f"heading_deg {degrees}: expected -360..360"
-                    )
-                value["heading"] = math.radians(degrees)
-            else:
-                value["heading"] = degrees
-        return value
+        both = "give either heading (radians) or heading_deg, not both"
+        return degrees_in_place(value, "heading", both, limit=360)

@@ -36,7 +36,7 @@ from baobab.sim.moving_objects import MovingObject, check_moving_objects
 from baobab.sim.route_graph_file import RouteGraph, load_route_graph
 from baobab.sim.route_graph_geometry import check_on_world
 from baobab.sim.world_map import FilterSettings, MapSettings, WorldMaps, load_world_maps
-from baobab.sim.yaml_models import YamlModel
+from baobab.sim.yaml_models import YamlModel, degrees_in_place
 from baobab.sim.yaml_source import (
     FieldValueError,
     describe_validation_error,
@@ -100,18 +100,8 @@ class _Yawed(_Strict):
     @model_validator(mode="before")
     @classmethod
     def _degrees(cls, value: object) -> object:
-        if isinstance(value, dict) and "yaw_deg" in value:
-            if "yaw" in value:
-                raise FieldValueError(
-                    ("yaw_deg",), "give either yaw (radians) or yaw_deg (degrees), not both"
-                )
-            value = dict(value)
-            degrees = value.pop("yaw_deg")
-            if isinstance(degrees, int | float) and not isinstance(degrees, bool):
-                value["yaw"] = math.radians(degrees)
-            else:
-                value["yaw"] = degrees
-        return value
+        both = "give either yaw (radians) or yaw_deg (degrees), not both"
+        return degrees_in_place(value, "yaw", both)
 
 
 class Pose2D(_Yawed):

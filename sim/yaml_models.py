@@ -8,6 +8,7 @@ before pydantic converts anything.
 
 from __future__ import annotations
 
+import math
 import types
 import typing
 from functools import cache
@@ -112,3 +113,31 @@ def _mistyped(annotation: Any, value: Any) -> tuple[KeyPath, str] | None:
             if found is not None:
                 return (key, *found[0]), found[1]
     return None
+
+
+def degrees_in_place(value: object, name: str, both: str, limit: float | None = None) -> object:
+    """A model's raw input with ``<name>_deg`` (degrees) turned into ``name`` (radians).
+
+    Args:
+        value: the raw input (only a mapping that holds ``<name>_deg`` changes).
+        name: the radians field.
+        both: the message when both fields are given.
+        limit: the largest magnitude (deg) accepted, if any.
+
+    Raises:
+        FieldValueError: both fields given, or the degrees beyond ``limit``.
+    """
+    key = f"{name}_deg"
+    if not isinstance(value, dict) or key not in value:
+        return value
+    if name in value:
+        raise FieldValueError((key,), both)
+    value = dict(value)
+    degrees = value.pop(key)
+    if isinstance(degrees, int | float) and not isinstance(degrees, bool):
+        if limit is not None and not abs(degrees) <= limit:
+            raise FieldValueError((key,), f"{key} {degrees}: expected -{limit:g}..{limit:g}")
+        value[name] = math.radians(degrees)
+    else:
+        value[name] = degrees  # the field's own check says what is wrong with it
+    return value
