@@ -19,10 +19,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from baobab.missions.language import loader
-from baobab.missions.language.errors import MissionError
 from baobab.missions.language.loader import SCHEMA_HEADER, load_mission
 from baobab.missions.language.models import TOP_LEVEL_KEYS
-from baobab.sim.errors import WorldError
+from baobab.sim.errors import SourceError, WorldError
 from baobab.sim.world import World, bundled_world_names, bundled_world_path, load_world
 
 REPO = Path(__file__).parent.parent
@@ -160,7 +159,7 @@ def test_the_mission_loader_raises_only_located_errors(text: str) -> None:
     path = FIXTURES / "fuzzed.yaml"
     try:
         mission = load_mission(path, text=text)
-    except (MissionError, WorldError) as error:
+    except SourceError as error:  # a mission, world or robot file: each error is located
         _assert_one_located_line(error)
     else:
         assert mission.path == path
