@@ -44,6 +44,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from baobab.missions.cli.run_server_protocol import Channel, ServedCommand, idle_seconds
+from baobab.missions.run.child_process import fork_is_safe
 
 Stamps = dict[str, tuple[int, int] | None]
 """A file's modification time (ns) and size, by path; None for a file that is gone."""
@@ -60,11 +61,11 @@ def main(argv: list[str] | None = None) -> int:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     preload()
     fingerprint = code_stamps()
-    if len(os.listdir("/proc/self/task")) != 1:
+    if fork_is_safe():
+        unsafe = None
+    else:
         fingerprint = {}  # see _declined
         unsafe = "threads run in the server: it cannot fork safely"
-    else:
-        unsafe = None
     with contextlib.suppress(FileNotFoundError):
         path.unlink()  # a server that died left it; the lock says none serves it now
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
