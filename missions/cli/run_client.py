@@ -20,7 +20,7 @@ import socket
 import sys
 from collections.abc import Sequence
 
-from baobab.missions.cli.interrupts import HANDLED, exit_on_signals
+from baobab.missions.cli.interrupts import HANDLED, exit_code_for, exit_on_signals
 from baobab.missions.cli.run_server_protocol import (
     LIMITS,
     Channel,
@@ -88,7 +88,7 @@ class _Forwarding:
 
     def exit_code(self) -> int | None:
         """``128 + signal`` for a signal that came before any worker started, else None."""
-        return 128 + self.pending[0] if self.pending else None
+        return exit_code_for(self.pending[0]) if self.pending else None
 
 
 def _connect() -> socket.socket | None:

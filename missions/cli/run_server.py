@@ -43,6 +43,7 @@ import time
 from pathlib import Path
 from typing import NoReturn
 
+from baobab.missions.cli.interrupts import exit_code_for, exit_on_signals
 from baobab.missions.cli.run_server_protocol import Channel, ServedCommand, idle_seconds
 from baobab.missions.run.child_process import fork_is_safe
 
@@ -226,7 +227,7 @@ def _wait(worker: int, channel: Channel) -> int:
     if os.WIFSIGNALED(status):
         with contextlib.suppress(OSError):
             channel.send(("killed", os.WTERMSIG(status)))
-        return 128 + os.WTERMSIG(status)
+        return exit_code_for(os.WTERMSIG(status))
     return os.waitstatus_to_exitcode(status)
 
 
@@ -251,7 +252,6 @@ def become_worker(command: ServedCommand, fds: list[int]) -> NoReturn:
     sys.argv = list(command.argv)
     _adopt_streams(command.streams, unbuffered=bool(command.environ.get("PYTHONUNBUFFERED")))
     from baobab.missions.cli import run_client
-    from baobab.missions.cli.interrupts import exit_on_signals
     from baobab.missions.cli.startup import environment_defaults
 
     run_client.IN_WORKER = True
