@@ -26,6 +26,7 @@ from baobab.missions.cli.run_server_protocol import (
     LIMITS,
     Channel,
     ServedCommand,
+    server_command,
     server_enabled,
     socket_path,
 )
@@ -144,8 +145,8 @@ def start_server() -> None:
 
     with contextlib.suppress(OSError), path.with_suffix(".log").open("wb") as log:
         subprocess.Popen(
-            [sys.executable, "-P", "-m", "baobab.missions.cli.run_server", str(path)],
-            cwd="/",  # -P and /: no module of the caller's folder shadows an installed one
+            server_command(path),
+            cwd="/",  # see server_command
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
             stderr=log,
