@@ -86,14 +86,14 @@ def compiled_env(cache: str) -> dict[str, str]:
 def run_server(env: dict[str, str]) -> Iterator[dict[str, str]]:
     """A run server for ``env`` (as the first ``baobab run`` starts one), ready to serve; the
     environment that reaches it. Stopped on the way out."""
-    from baobab.missions.cli.run_server_protocol import socket_path
+    from baobab.missions.cli.run_server_protocol import server_command, socket_path
 
     folder = tempfile.mkdtemp(prefix="bb-", dir="/tmp")  # socket paths are short
     served = {**env, "BAOBAB_RUN_SERVER": "1", "BAOBAB_RUN_SERVER_DIR": folder}
     path = socket_path(served)
     assert path is not None
     server = subprocess.Popen(
-        [sys.executable, "-P", "-m", "baobab.missions.cli.run_server", str(path)],
+        server_command(path),
         env=served,
         stdin=subprocess.DEVNULL,
         stderr=subprocess.PIPE,

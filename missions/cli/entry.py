@@ -48,7 +48,8 @@ def main() -> int:
 
     guard_standard_streams()
     arguments = sys.argv[1:]
-    served = _run_in_server(arguments) if _command(arguments) == "run" else None
+    running = _command(arguments) == "run"
+    served = _run_in_server(arguments) if running else None
     if served is not None:
         _leave(served)
     from baobab.missions.cli.command_line import main as command_line
@@ -57,7 +58,7 @@ def main() -> int:
         code = command_line()
     except KeyboardInterrupt:
         code = exit_code_for(signal.SIGINT)
-    if _command(arguments) == "run" and code in (EXIT_OK, EXIT_NOT_INTENDED):
+    if running and code in (EXIT_OK, EXIT_NOT_INTENDED):
         from baobab.missions.cli.run_client import start_server
 
         start_server()  # for the next run

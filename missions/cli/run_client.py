@@ -19,12 +19,14 @@ import signal
 import socket
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
-from baobab.missions.cli.interrupts import HANDLED, exit_on_signals
+from baobab.missions.cli.interrupts import HANDLED, exit_code_for, exit_on_signals
 from baobab.missions.cli.run_server_protocol import (
     LIMITS,
     Channel,
     ServedCommand,
+    server_command,
     server_enabled,
     socket_path,
 )
@@ -36,7 +38,8 @@ IN_WORKER = False
 
 def run_in_server(arguments: Sequence[str]) -> int | None:
     """Run ``baobab <arguments>`` in the run server; its exit code, or None to run it here."""
-    connection = _connect()
+    path = _server_path()
+    connection = None if path is None else _connect(path)
     if connection is None:
         return None
     channel = Channel(connection)
@@ -88,15 +91,17 @@ class _Forwarding:
 
     def exit_code(self) -> int | None:
         """``128 + signal`` for a signal that came before any worker started, else None."""
-        return 128 + self.pending[0] if self.pending else None
+        return exit_code_for(self.pending[0]) if self.pending else None
 
 
-def _connect() -> socket.socket | None:
+def _server_path() -> Path | None:
+    """The socket of this installation's run server; None where this process uses none."""
     if IN_WORKER or not server_enabled(os.environ) or not hasattr(os, "pidfd_open"):
         return None
-    path = socket_path(os.environ)
-    if path is None:
-        return None
+    return socket_path(os.environ)
+
+
+def _connect(path: Path) -> socket.socket | None:
     connection = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     try:
         connection.connect(str(path))
@@ -129,21 +134,19 @@ def start_server() -> None:
 
     It logs what it serves and declines in ``run-<key>.log`` beside its socket.
     """
-    connection = _connect()
+    path = _server_path()
+    if path is None:
+        return
+    connection = _connect(path)
     if connection is not None:
         connection.close()
-        return
-    if IN_WORKER or not server_enabled(os.environ) or not hasattr(os, "pidfd_open"):
-        return
-    path = socket_path(os.environ)
-    if path is None:
         return
     import subprocess
 
     with contextlib.suppress(OSError), path.with_suffix(".log").open("wb") as log:
         subprocess.Popen(
-            [sys.executable, "-P", "-m", "baobab.missions.cli.run_server", str(path)],
-            cwd="/",  # -P and /: no module of the caller's folder shadows an installed one
+            server_command(path),
+            cwd="/",  # see server_command
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
             stderr=log,

@@ -43,7 +43,9 @@ import time
 from pathlib import Path
 from typing import NoReturn
 
+from baobab.missions.cli.interrupts import exit_code_for, exit_on_signals
 from baobab.missions.cli.run_server_protocol import Channel, ServedCommand, idle_seconds
+from baobab.missions.run.child_process import fork_is_safe
 
 Stamps = dict[str, tuple[int, int] | None]
 """A file's modification time (ns) and size, by path; None for a file that is gone."""
@@ -60,11 +62,11 @@ def main(argv: list[str] | None = None) -> int:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     preload()
     fingerprint = code_stamps()
-    if len(os.listdir("/proc/self/task")) != 1:
+    if fork_is_safe():
+        unsafe = None
+    else:
         fingerprint = {}  # see _declined
         unsafe = "threads run in the server: it cannot fork safely"
-    else:
-        unsafe = None
     with contextlib.suppress(FileNotFoundError):
         path.unlink()  # a server that died left it; the lock says none serves it now
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -225,7 +227,7 @@ def _wait(worker: int, channel: Channel) -> int:
     if os.WIFSIGNALED(status):
         with contextlib.suppress(OSError):
             channel.send(("killed", os.WTERMSIG(status)))
-        return 128 + os.WTERMSIG(status)
+        return exit_code_for(os.WTERMSIG(status))
     return os.waitstatus_to_exitcode(status)
 
 
@@ -250,7 +252,6 @@ def become_worker(command: ServedCommand, fds: list[int]) -> NoReturn:
     sys.argv = list(command.argv)
     _adopt_streams(command.streams, unbuffered=bool(command.environ.get("PYTHONUNBUFFERED")))
     from baobab.missions.cli import run_client
-    from baobab.missions.cli.interrupts import exit_on_signals
     from baobab.missions.cli.startup import environment_defaults
 
     run_client.IN_WORKER = True

@@ -54,6 +54,12 @@ MAX_FDS = 3
 """A request carries the caller's standard input, output and error."""
 
 
+def server_command(path: Path) -> list[str]:
+    """The command line that starts the run server of the socket ``path`` (run it in ``/``:
+    with ``-P`` and there, no module of the caller's folder shadows an installed one)."""
+    return [sys.executable, "-P", "-m", "baobab.missions.cli.run_server", str(path)]
+
+
 def server_enabled(environ: Mapping[str, str]) -> bool:
     """Whether ``baobab run`` may use (and start) a run server."""
     return environ.get(ENABLED, "1").strip().lower() not in ("0", "off", "no", "false")

@@ -181,7 +181,6 @@ def _map_image(axes: Axes, world: World) -> None:
 def _zones(axes: Axes, zones: Sequence[ZoneImage]) -> None:
     """Costmap filter zones: keepout zones hatched red, speed limits orange (darker: slower)."""
     import matplotlib
-    from matplotlib.colors import ListedColormap, NoNorm
     from matplotlib.patches import Rectangle
 
     limits = sum(not zone.keepout for zone in zones)
@@ -192,20 +191,10 @@ def _zones(axes: Axes, zones: Sequence[ZoneImage]) -> None:
         else:
             colour = matplotlib.colormaps["Oranges"](0.65 - 0.4 * slower / max(limits - 1, 1))
             slower += 1
-        height, width = zone.cells.shape
         table = np.zeros((2, 4))
         table[1] = matplotlib.colors.to_rgba(colour, ZONE_ALPHA)
         x0, y0 = zone.origin
-        axes.imshow(
-            zone.cells.astype(np.uint8),
-            origin="lower",
-            extent=(x0, x0 + width * zone.resolution, y0, y0 + height * zone.resolution),
-            cmap=ListedColormap(table),
-            norm=NoNorm(),
-            zorder=1.5,
-            interpolation="nearest",
-            interpolation_stage="data",
-        )
+        _indexed_cells(axes, zone.cells.astype(np.uint8), zone.origin, zone.resolution, table, 1.5)
         rows, cols = np.nonzero(zone.cells)
         if len(rows):
             corner = (x0 + cols.min() * zone.resolution, y0 + rows.min() * zone.resolution)
@@ -216,32 +205,42 @@ def _zones(axes: Axes, zones: Sequence[ZoneImage]) -> None:
             axes.add_patch(legend_only)
 
 
-def _costmap(axes: Axes, image: CostmapImage, corner: tuple[float, float]) -> None:
-    import matplotlib
+def _indexed_cells(
+    axes: Axes,
+    cells: np.ndarray,
+    origin: tuple[float, float],
+    resolution: float,
+    colours: np.ndarray,
+    zorder: float,
+) -> None:
+    """A grid of cells (``resolution`` m, lower-left corner at ``origin``) whose values index
+    the RGBA table ``colours``. Resampled as data, such an image costs ~15 MB at the figure's
+    pixel size, where a masked array resampled as RGBA colours (matplotlib's choice below 3
+    pixels a cell) cost ~70 MB."""
     from matplotlib.colors import ListedColormap, NoNorm
-    from matplotlib.patches import Rectangle
 
-    height, width = image.data.shape
-    # The costs index a colour table whose alpha makes free cells transparent; resampled
-    # as data, the image costs ~15 MB at the figure's pixel size, where a masked array
-    # resampled as RGBA colours (matplotlib's choice below 3 pixels a cell) cost ~70 MB.
-    colours = matplotlib.colormaps[COSTMAP_CMAP](np.arange(256))
-    colours[:, 3] = np.where(np.arange(256) > 0, COSTMAP_ALPHA, 0.0)
+    height, width = cells.shape
+    x0, y0 = origin
     axes.imshow(
-        image.data,
+        cells,
         origin="lower",
-        extent=(
-            image.origin[0],
-            image.origin[0] + width * image.resolution,
-            image.origin[1],
-            image.origin[1] + height * image.resolution,
-        ),
+        extent=(x0, x0 + width * resolution, y0, y0 + height * resolution),
         cmap=ListedColormap(colours),
         norm=NoNorm(),
-        zorder=1,
+        zorder=zorder,
         interpolation="nearest",
         interpolation_stage="data",
     )
+
+
+def _costmap(axes: Axes, image: CostmapImage, corner: tuple[float, float]) -> None:
+    import matplotlib
+    from matplotlib.patches import Rectangle
+
+    # The costs index a colour table whose alpha makes free cells transparent.
+    colours = matplotlib.colormaps[COSTMAP_CMAP](np.arange(256))
+    colours[:, 3] = np.where(np.arange(256) > 0, COSTMAP_ALPHA, 0.0)
+    _indexed_cells(axes, image.data, image.origin, image.resolution, colours, 1)
     colour = matplotlib.colormaps[COSTMAP_CMAP](0.8)
     legend_only = Rectangle(corner, 0, 0, color=colour, alpha=COSTMAP_ALPHA)
     legend_only.set_label("inflated costmap")
