@@ -156,15 +156,16 @@ ROOM_DOCK = Dock(pose=(1.5, 0.5, 0.3))
 """The charging dock of :func:`dock_room`: docked base at (1.5, 0.5), facing 0.3 rad."""
 
 
-def dock_room(start: Pose2D | None = None) -> World:
-    """A 6 m x 5 m room with the charging dock ``home`` (:data:`ROOM_DOCK`); the robot starts
-    at ``start``, by default on the dock's staging pose (0.7 m before it)."""
+def dock_room(start: Pose2D | None = None, *, boxes: list[Box] | None = None) -> World:
+    """A 6 m x 5 m room with the charging dock ``home`` (:data:`ROOM_DOCK`) and ``boxes``; the
+    robot starts at ``start``, by default on the dock's staging pose (0.7 m before it)."""
     if start is None:
         x, y = ROOM_DOCK.to_map(-0.7, 0.0)
         start = Pose2D(x=x, y=y, yaw=ROOM_DOCK.yaw)
     return World(
         name="dock_room",
         floor=Floor(size=(6.0, 5.0)),
+        boxes=boxes or [],
         spawns={"default": start},
         docks={"home": ROOM_DOCK},
     )
