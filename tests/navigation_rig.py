@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from baobab.nav import NavigationServer, build_navigation
+from baobab.nav import BasicNavigator, NavigationServer, build_navigation
 from baobab.nav.robot_params import navigation_params
 from baobab.robots.catalog import ROBOTS
 from baobab.robots.diff_drive import MobileRobot
@@ -109,6 +109,17 @@ def make_rig(
         params = navigation_params(info)
         server = build_navigation(sim, robot.base, robot.lidar, world, params=params)
     return NavRig(world, sim, robot, server, ContactWatch(sim, robot.names.body))
+
+
+def feedback_states(navigator: BasicNavigator) -> set[int]:
+    """Poll ``isTaskComplete`` as a script does until the task ends; the ``state`` of every
+    feedback read on the way."""
+    states: set[int] = set()
+    while not navigator.isTaskComplete():
+        feedback = navigator.getFeedback()
+        if feedback is not None:
+            states.add(feedback.state)
+    return states
 
 
 def distance(a: Pose2D, b: Pose2D) -> float:

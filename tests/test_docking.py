@@ -6,7 +6,7 @@ import math
 from pathlib import Path
 
 import pytest
-from navigation_rig import ROOM_DOCK, NavRig, dock_room, make_rig
+from navigation_rig import ROOM_DOCK, NavRig, dock_room, feedback_states, make_rig
 
 from baobab.nav.docking import DockingParams, staging_pose
 from baobab.nav.docking_tasks import DockState
@@ -183,13 +183,9 @@ def test_the_simple_commander_docks_by_id_and_by_pose_and_undocks() -> None:
     navigator = BasicNavigator(world=dock_room(_near_staging()))
     try:
         assert navigator.dockRobotByID("home", nav_to_dock=False) is not None
-        feedback_states = set()
-        while not navigator.isTaskComplete():
-            feedback = navigator.getFeedback()
-            if feedback is not None:
-                feedback_states.add(feedback.state)
+        states = feedback_states(navigator)
         assert navigator.getResult() is TaskResult.SUCCEEDED
-        assert action.DockRobot.Feedback.CONTROLLING in feedback_states
+        assert action.DockRobot.Feedback.CONTROLLING in states
         assert navigator.undockRobot() is not None
         while not navigator.isTaskComplete():
             pass
