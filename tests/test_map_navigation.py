@@ -203,14 +203,6 @@ def test_the_robot_slows_down_in_the_speed_zone(tmp_path: Path, speed: str, limi
     assert max(inside) > limit - 0.02
 
 
-def _goal(x: float, y: float) -> msgs.PoseStamped:
-    goal = msgs.PoseStamped()
-    goal.header.frame_id = "map"
-    goal.pose.position.x, goal.pose.position.y = x, y
-    goal.pose.orientation.w = 1.0
-    return goal
-
-
 def test_basic_navigator_runs_on_a_map_yaml_and_changes_map(tmp_path: Path) -> None:
     pixels = room_pixels(80, 60)
     first = write_map(tmp_path, pixels, name="first", origin=(-1.0, -1.0, 0.0))
@@ -220,7 +212,7 @@ def test_basic_navigator_runs_on_a_map_yaml_and_changes_map(tmp_path: Path) -> N
         assert distance(navigator.robot_pose(), Pose2D(x=0.0, y=0.0)) < 0.01
         costmap = navigator.getGlobalCostmap()
         assert (costmap.metadata.size_x, costmap.metadata.size_y) == (80, 60)
-        navigator.goToPose(_goal(1.5, 1.0))
+        navigator.goToPose(msgs.pose_stamped(1.5, 1.0))
         while not navigator.isTaskComplete():
             pass
         assert navigator.getResult() is TaskResult.SUCCEEDED
