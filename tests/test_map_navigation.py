@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from map_files import maze_pixels, room_pixels, write_map
+from map_files import image_cells, maze_pixels, room_pixels, write_map
 from navigation_rig import distance, make_rig
 
 from baobab.nav import msgs
@@ -31,14 +31,6 @@ from baobab.sim.world import Pose2D, load_world
 RES = 0.05
 
 
-def _cells(x0: float, y0: float, x1: float, y1: float, height: int) -> tuple[slice, slice]:
-    """Image rows and columns of the map rectangle [x0, x1] x [y0, y1] (m, origin 0, 0)."""
-    return (
-        slice(height - round(y1 / RES), height - round(y0 / RES)),
-        slice(round(x0 / RES), round(x1 / RES)),
-    )
-
-
 KEEPOUT_ZONE = (2.2, 1.2, 3.8, 4.0)
 SLOW_ZONE = (2.0, 0.0, 4.0, 4.0)
 
@@ -51,12 +43,12 @@ def _office(folder: Path, *, keepout: bool = False, speed: str = "") -> Path:
     filters = []
     if keepout:
         mask = np.full(pixels.shape, 254, dtype=np.uint8)
-        mask[_cells(*KEEPOUT_ZONE, 80)] = 0
+        mask[image_cells(KEEPOUT_ZONE, 80)] = 0
         write_map(folder, mask, name="keepout")
         filters.append("  keepout: ./keepout.yaml")
     if speed:
         mask = np.full(pixels.shape, 255, dtype=np.uint8)
-        mask[_cells(*SLOW_ZONE, 80)] = 127  # scale mode: m = round(100 (1 - 127/255)) = 50
+        mask[image_cells(SLOW_ZONE, 80)] = 127  # scale mode: m = round(100 (1 - 127/255)) = 50
         write_map(folder, mask, name="speed", mode="scale", occupied_thresh=1.0, free_thresh=0.0)
         filters.append(f"  speed: {speed}")
     if filters:
