@@ -102,3 +102,12 @@ def maze_pixels(seed: int, cells: int = 5, cell_px: int = 20, wall: int = 2) -> 
         pixels[top:bottom, left:right] = FREE_PIXEL
         stack.append((nr, nc))
     return pixels
+
+
+def image_cells(
+    rect: tuple[float, float, float, float], height: int, resolution: float = 0.05
+) -> tuple[slice, slice]:
+    """Image rows and columns of the map rectangle ``(x0, y0, x1, y1)`` (m) of a map ``height``
+    pixels high whose origin is (0, 0): row 0 is the image's top."""
+    x0, y0, x1, y1 = (round(v / resolution) for v in rect)
+    return slice(height - y1, height - y0), slice(x0, x1)

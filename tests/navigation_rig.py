@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from baobab.nav import NavigationServer, build_navigation
+from baobab.nav import BasicNavigator, NavigationServer, build_navigation
 from baobab.nav.robot_params import navigation_params
 from baobab.robots.catalog import ROBOTS
 from baobab.robots.diff_drive import MobileRobot
@@ -111,6 +111,17 @@ def make_rig(
     return NavRig(world, sim, robot, server, ContactWatch(sim, robot.names.body))
 
 
+def feedback_states(navigator: BasicNavigator) -> set[int]:
+    """Poll ``isTaskComplete`` as a script does until the task ends; the ``state`` of every
+    feedback read on the way."""
+    states: set[int] = set()
+    while not navigator.isTaskComplete():
+        feedback = navigator.getFeedback()
+        if feedback is not None:
+            states.add(feedback.state)
+    return states
+
+
 def distance(a: Pose2D, b: Pose2D) -> float:
     """Planar distance (m) between two poses."""
     return math.hypot(a.x - b.x, a.y - b.y)
@@ -156,15 +167,16 @@ ROOM_DOCK = Dock(pose=(1.5, 0.5, 0.3))
 """The charging dock of :func:`dock_room`: docked base at (1.5, 0.5), facing 0.3 rad."""
 
 
-def dock_room(start: Pose2D | None = None) -> World:
-    """A 6 m x 5 m room with the charging dock ``home`` (:data:`ROOM_DOCK`); the robot starts
-    at ``start``, by default on the dock's staging pose (0.7 m before it)."""
+def dock_room(start: Pose2D | None = None, *, boxes: list[Box] | None = None) -> World:
+    """A 6 m x 5 m room with the charging dock ``home`` (:data:`ROOM_DOCK`) and ``boxes``; the
+    robot starts at ``start``, by default on the dock's staging pose (0.7 m before it)."""
     if start is None:
         x, y = ROOM_DOCK.to_map(-0.7, 0.0)
         start = Pose2D(x=x, y=y, yaw=ROOM_DOCK.yaw)
     return World(
         name="dock_room",
         floor=Floor(size=(6.0, 5.0)),
+        boxes=boxes or [],
         spawns={"default": start},
         docks={"home": ROOM_DOCK},
     )

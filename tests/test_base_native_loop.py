@@ -20,6 +20,7 @@ from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.robots.diff_drive import MobileRobot
 from baobab.robots.turtlebot3 import BURGER, build_turtlebot3_sim
 from baobab.sim.builder import MAP_WALL_MATERIAL, MOVABLE_GROUP, ROBOT_GROUP, STATIC_GROUP
+from baobab.sim.simulation import Simulation
 from baobab.sim.world import (
     MAP_GEOM_PREFIX,
     MOVABLE_SLOT_COUNT,
@@ -154,19 +155,25 @@ def _arena() -> World:
     )
 
 
-def test_contact_and_position_samples_match_python_callbacks() -> None:
-    sim, robot = build_turtlebot3_sim(_arena())
-    samples = robot.base.start_probe(pose_period=0.02, contact_period=0.01, drain_period=1.0)
+def _python_contacts(sim: Simulation) -> ContactSampler:
+    """Python callbacks that sample the robot's contacts with obstacles every 10 ms, as the
+    base's probe does inside the step. data.contact holds the contacts of the state the last
+    step started from: a callback one physics step after the kernel's sample reads the
+    contacts the kernel read."""
     groups = sim.model.geom_group
-    python_contacts = ContactSampler(
+    contacts = ContactSampler(
         sim,
         mine=[bool(g == ROBOT_GROUP) for g in groups],
         others=[bool(g in (STATIC_GROUP, MOVABLE_GROUP)) for g in groups],
     )
-    # data.contact holds the contacts of the state the last step started from: a callback one
-    # physics step after the kernel's sample reads the contacts the kernel read.
-    step = sim.physics_dt
-    sim.every(0.01, python_contacts.sample, name="python contacts", first_call=step)
+    sim.every(0.01, contacts.sample, name="python contacts", first_call=sim.physics_dt)
+    return contacts
+
+
+def test_contact_and_position_samples_match_python_callbacks() -> None:
+    sim, robot = build_turtlebot3_sim(_arena())
+    samples = robot.base.start_probe(pose_period=0.02, contact_period=0.01, drain_period=1.0)
+    python_contacts = _python_contacts(sim)
     root = sim.data.joint("tb3/root").qpos
     python_poses: list[tuple[float, float, float]] = []
     sim.every(0.02, lambda now: python_poses.append((now, root[0], root[1])), name="poses")
@@ -201,13 +208,7 @@ def test_a_maps_walls_count_as_one_obstacle_with_two_sensors(
     sim, robot = build_turtlebot3_sim(world, Pose2D(x=1.0, y=1.5, yaw=yaw))
     assert sim.model.nsensor <= 2 + 1 + MOVABLE_SLOT_COUNT + 2  # not one per wall box
     samples = robot.base.start_probe(pose_period=0.02, contact_period=0.01, drain_period=1.0)
-    groups = sim.model.geom_group
-    python_contacts = ContactSampler(
-        sim,
-        mine=[bool(g == ROBOT_GROUP) for g in groups],
-        others=[bool(g in (STATIC_GROUP, MOVABLE_GROUP)) for g in groups],
-    )
-    sim.every(0.01, python_contacts.sample, name="python contacts", first_call=sim.physics_dt)
+    python_contacts = _python_contacts(sim)
     sim.every(1.0, lambda _now: samples.drain(), name="drain")
     robot.base.command(0.2, 0.0)  # north into the crate, or south into the map's wall
     sim.step_for(8.0)

@@ -75,7 +75,8 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, Phase, example, given, settings
 from hypothesis import strategies as st
-from navigation_rig import ROOM_DOCK, dock_room, sealed_room, walker_room
+from navigation_rig import ROOM_DOCK, dock_room, sealed_room, walker_room, yaw_error
+from navigation_rig import distance as planar_distance
 
 from baobab.nav import BasicNavigator, TaskResult
 from baobab.nav.errors import AssistedTeleopError, ComputePathToPoseError
@@ -250,16 +251,6 @@ def run_until_done(sim: Simulation, handle: TaskHandle, limit: float, poll: int 
         assert sim.time < end, f"{handle.name} still running after {limit} s"
         sim.step_to(sim.step_count + poll)
     return sim.time
-
-
-def planar_distance(a: Pose2D, b: Pose2D) -> float:
-    """Distance (m) between two poses' positions."""
-    return math.hypot(a.x - b.x, a.y - b.y)
-
-
-def yaw_error(a: Pose2D, b: Pose2D) -> float:
-    """Absolute heading difference (rad)."""
-    return abs(math.remainder(a.yaw - b.yaw, 2 * math.pi))
 
 
 # -- the navigation facade -------------------------------------------------------------------

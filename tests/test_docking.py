@@ -6,7 +6,7 @@ import math
 from pathlib import Path
 
 import pytest
-from navigation_rig import NavRig, make_rig
+from navigation_rig import ROOM_DOCK, NavRig, dock_room, feedback_states, make_rig
 
 from baobab.nav.docking import DockingParams, staging_pose
 from baobab.nav.docking_tasks import DockState
@@ -14,22 +14,12 @@ from baobab.nav.errors import DockRobotError, UndockRobotError
 from baobab.nav.interfaces import FEEDBACK_KEY, RESULT_KEY
 from baobab.sim.docks import Dock
 from baobab.sim.tasks import TaskHandle, TaskStatus
-from baobab.sim.world import Box, Floor, Pose2D, World
+from baobab.sim.world import Box, Pose2D
 
-DOCK = Dock(pose=(1.5, 0.5, 0.3))
+DOCK = ROOM_DOCK
 DOCKED = Pose2D(x=DOCK.x, y=DOCK.y, yaw=DOCK.yaw)
 PARAMS = DockingParams()
 STAGING = staging_pose(DOCKED, PARAMS)
-
-
-def _world(start: Pose2D, *, boxes: list[Box] | None = None) -> World:
-    return World(
-        name="dock_room",
-        floor=Floor(size=(6.0, 5.0)),
-        boxes=boxes or [],
-        spawns={"default": start},
-        docks={"home": DOCK},
-    )
 
 
 def _near_staging(dx: float = 0.0, dy: float = 0.0, dyaw: float = 0.0) -> Pose2D:
@@ -56,7 +46,7 @@ def _assert_docked(rig: NavRig) -> None:
     ids=["at-staging", "ahead-left", "behind-right"],
 )
 def test_the_robot_docks_from_near_the_staging_pose(start: Pose2D) -> None:
-    rig = make_rig(_world(start))
+    rig = make_rig(dock_room(start))
     handle = rig.server.docking.dock_robot("home")
     rig.run(handle, 40.0)
     assert handle.outcome is not None and handle.outcome.status is TaskStatus.SUCCEEDED
@@ -67,7 +57,7 @@ def test_the_robot_docks_from_near_the_staging_pose(start: Pose2D) -> None:
 
 def test_the_robot_navigates_to_staging_then_docks_where_the_lidar_sees_the_dock() -> None:
     # The database believes the dock stands 12 cm and 0.15 rad off: the detector corrects it.
-    rig = make_rig(_world(Pose2D(x=-1.5, y=-1.0, yaw=0.0)))
+    rig = make_rig(dock_room(Pose2D(x=-1.5, y=-1.0, yaw=0.0)))
     rig.server.docking.database["home"] = Dock(pose=(DOCK.x - 0.1, DOCK.y + 0.07, DOCK.yaw + 0.15))
     handle = rig.server.docking.dock_robot("home")
     states: list[int] = []
@@ -97,7 +87,7 @@ def test_the_robot_navigates_to_staging_then_docks_where_the_lidar_sees_the_dock
 def test_a_blocked_approach_fails_to_control_after_the_retries() -> None:
     crate_x, crate_y = DOCK.to_map(-0.42, 0.0)
     crate = Box(name="crate", center=(crate_x, crate_y), size=(0.06, 0.06), yaw=DOCK.yaw)
-    rig = make_rig(_world(_near_staging(), boxes=[crate]))
+    rig = make_rig(dock_room(_near_staging(), boxes=[crate]))
     handle = rig.server.docking.dock_robot("home")
     rig.run(handle, 60.0)
     assert handle.outcome is not None
@@ -119,7 +109,7 @@ def test_a_blocked_approach_fails_to_control_after_the_retries() -> None:
 def test_bad_dock_goals_fail_with_nav2s_codes(
     dock_id: str, pose: Pose2D | None, dock_type: str, code: DockRobotError
 ) -> None:
-    rig = make_rig(_world(_near_staging()))
+    rig = make_rig(dock_room(_near_staging()))
     handle = rig.server.docking.dock_robot(dock_id, pose, dock_type, navigate_to_staging_pose=False)
     rig.run(handle, 20.0)
     assert handle.outcome is not None and handle.outcome.error_code == code
@@ -128,7 +118,7 @@ def test_bad_dock_goals_fail_with_nav2s_codes(
 
 
 def test_undocking_without_a_dock_fails_as_dock_not_valid() -> None:
-    rig = make_rig(_world(_near_staging()))
+    rig = make_rig(dock_room(_near_staging()))
     handle = rig.server.docking.undock_robot()
     rig.run(handle, 5.0)
     assert handle.outcome is not None
@@ -153,7 +143,7 @@ def _at_rest(rig: NavRig) -> bool:
     ids=["staging", "perception", "controlling"],
 )
 def test_cancel_in_each_phase_leaves_the_robot_at_rest(start: Pose2D, phase: DockState) -> None:
-    rig = make_rig(_world(start))
+    rig = make_rig(dock_room(start))
     handle = rig.server.docking.dock_robot("home")
     while _state(handle) != phase:
         rig.sim.step_for(0.05)
@@ -168,7 +158,7 @@ def test_cancel_in_each_phase_leaves_the_robot_at_rest(start: Pose2D, phase: Doc
 def test_cancel_while_backing_out_for_a_retry_or_undocking_leaves_the_robot_at_rest() -> None:
     crate_x, crate_y = DOCK.to_map(-0.42, 0.0)
     crate = Box(name="crate", center=(crate_x, crate_y), size=(0.06, 0.06), yaw=DOCK.yaw)
-    rig = make_rig(_world(_near_staging(), boxes=[crate]))
+    rig = make_rig(dock_room(_near_staging(), boxes=[crate]))
     handle = rig.server.docking.dock_robot("home")
     while _state(handle) != DockState.RETRY:
         rig.sim.step_for(0.05)
@@ -176,7 +166,7 @@ def test_cancel_while_backing_out_for_a_retry_or_undocking_leaves_the_robot_at_r
     handle.cancel()
     assert _at_rest(rig)
 
-    rig = make_rig(_world(_near_staging()))
+    rig = make_rig(dock_room(_near_staging()))
     rig.run(rig.server.docking.dock_robot("home"), 40.0)
     undock = rig.server.docking.undock_robot()
     rig.sim.step_for(1.0)
@@ -190,16 +180,12 @@ def test_the_simple_commander_docks_by_id_and_by_pose_and_undocks() -> None:
     from baobab.nav.navigator import BasicNavigator, TaskResult
     from baobab.nav.ros.nav2_msgs import action
 
-    navigator = BasicNavigator(world=_world(_near_staging()))
+    navigator = BasicNavigator(world=dock_room(_near_staging()))
     try:
         assert navigator.dockRobotByID("home", nav_to_dock=False) is not None
-        feedback_states = set()
-        while not navigator.isTaskComplete():
-            feedback = navigator.getFeedback()
-            if feedback is not None:
-                feedback_states.add(feedback.state)
+        states = feedback_states(navigator)
         assert navigator.getResult() is TaskResult.SUCCEEDED
-        assert action.DockRobot.Feedback.CONTROLLING in feedback_states
+        assert action.DockRobot.Feedback.CONTROLLING in states
         assert navigator.undockRobot() is not None
         while not navigator.isTaskComplete():
             pass
@@ -221,7 +207,7 @@ def test_the_simple_commander_docks_by_id_and_by_pose_and_undocks() -> None:
 
 
 def test_reload_database_reads_a_nav2_dock_database_file(tmp_path: Path) -> None:
-    rig = make_rig(_world(_near_staging()))
+    rig = make_rig(dock_room(_near_staging()))
     reload = rig.server.services["docking_server/reload_database"]
     good = tmp_path / "docks.yaml"
     good.write_text("docks:\n  spare:\n    type: charging_dock\n    pose: [0.0, 1.0, 3.14]\n")

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from map_files import room_pixels, write_map
+from map_files import image_cells, room_pixels, write_map
 from matplotlib.figure import Figure
 from test_run_recording import read_mcap
 
@@ -38,19 +38,14 @@ SLOW = (1.5, 0.0, 2.5, 3.0)
 OFFICE = Path(str(resources.files("baobab.missions"))) / "office_patrol.yaml"
 
 
-def _cells(rect: tuple[float, float, float, float]) -> tuple[slice, slice]:
-    x0, y0, x1, y1 = (round(v / 0.05) for v in rect)
-    return slice(ROOM[1] - y1, ROOM[1] - y0), slice(x0, x1)
-
-
 def _room(folder: Path) -> Path:
     """The room map and its masks in ``folder``; returns the world file standing on them."""
     write_map(folder, room_pixels(*ROOM), name="room")
     keepout = np.full((ROOM[1], ROOM[0]), 254, dtype=np.uint8)
-    keepout[_cells(KEEPOUT)] = 0
+    keepout[image_cells(KEEPOUT, ROOM[1])] = 0
     write_map(folder, keepout, name="keepout")
     speed = np.full((ROOM[1], ROOM[0]), 255, dtype=np.uint8)
-    speed[_cells(SLOW)] = 128  # scale mode: 50 % taken off
+    speed[image_cells(SLOW, ROOM[1])] = 128  # scale mode: 50 % taken off
     write_map(folder, speed, name="speed", mode="scale", occupied_thresh=1.0, free_thresh=0.0)
     path = folder / "world.yaml"
     path.write_text(

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from navigation_rig import NavRig, make_rig
+from navigation_rig import NavRig, feedback_states, make_rig
 
 from baobab.nav.errors import FollowObjectError
 from baobab.nav.following import FollowingParams, FollowState
@@ -171,11 +171,7 @@ def test_the_simple_commander_follows_by_topic_and_by_frame() -> None:
     navigator = BasicNavigator(world=world)
     try:
         assert navigator.followObjectByTopic("/person/pose", max_duration=5) is not None
-        states = set()
-        while not navigator.isTaskComplete():
-            feedback = navigator.getFeedback()
-            if feedback is not None:
-                states.add(feedback.state)
+        states = feedback_states(navigator)
         assert navigator.getResult() is TaskResult.SUCCEEDED
         assert action.FollowObject.Feedback.CONTROLLING in states
         assert navigator.result_future is not None

@@ -12,7 +12,6 @@ at X 3771793.968, Y 140253.342, Z 5124304.349 m, and, seen from the topocentric 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 from pathlib import Path
 
 import pymap3d
@@ -126,13 +125,6 @@ def test_waypoints_that_cannot_be_converted_are_skipped_or_stop_the_goal() -> No
     ]
     follower.stop_on_failure = True
     assert follower.to_map(poses) == ([], [1])
-
-
-@pytest.fixture(scope="module")
-def lanes() -> Iterator[BasicNavigator]:
-    navigator = BasicNavigator(world=load_world(LANES), seed=0)
-    yield navigator
-    navigator.destroy_node()
 
 
 def test_follow_gps_waypoints_drives_to_each_geographic_waypoint(lanes: BasicNavigator) -> None:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from map_files import maze_pixels, room_pixels, write_map
+from map_files import image_cells, maze_pixels, room_pixels, write_map
 from navigation_rig import distance, make_rig
 
 from baobab.nav import msgs
@@ -31,14 +31,6 @@ from baobab.sim.world import Pose2D, load_world
 RES = 0.05
 
 
-def _cells(x0: float, y0: float, x1: float, y1: float, height: int) -> tuple[slice, slice]:
-    """Image rows and columns of the map rectangle [x0, x1] x [y0, y1] (m, origin 0, 0)."""
-    return (
-        slice(height - round(y1 / RES), height - round(y0 / RES)),
-        slice(round(x0 / RES), round(x1 / RES)),
-    )
-
-
 KEEPOUT_ZONE = (2.2, 1.2, 3.8, 4.0)
 SLOW_ZONE = (2.0, 0.0, 4.0, 4.0)
 
@@ -51,12 +43,12 @@ def _office(folder: Path, *, keepout: bool = False, speed: str = "") -> Path:
     filters = []
     if keepout:
         mask = np.full(pixels.shape, 254, dtype=np.uint8)
-        mask[_cells(*KEEPOUT_ZONE, 80)] = 0
+        mask[image_cells(KEEPOUT_ZONE, 80)] = 0
         write_map(folder, mask, name="keepout")
         filters.append("  keepout: ./keepout.yaml")
     if speed:
         mask = np.full(pixels.shape, 255, dtype=np.uint8)
-        mask[_cells(*SLOW_ZONE, 80)] = 127  # scale mode: m = round(100 (1 - 127/255)) = 50
+        mask[image_cells(SLOW_ZONE, 80)] = 127  # scale mode: m = round(100 (1 - 127/255)) = 50
         write_map(folder, mask, name="speed", mode="scale", occupied_thresh=1.0, free_thresh=0.0)
         filters.append(f"  speed: {speed}")
     if filters:
@@ -203,14 +195,6 @@ def test_the_robot_slows_down_in_the_speed_zone(tmp_path: Path, speed: str, limi
     assert max(inside) > limit - 0.02
 
 
-def _goal(x: float, y: float) -> msgs.PoseStamped:
-    goal = msgs.PoseStamped()
-    goal.header.frame_id = "map"
-    goal.pose.position.x, goal.pose.position.y = x, y
-    goal.pose.orientation.w = 1.0
-    return goal
-
-
 def test_basic_navigator_runs_on_a_map_yaml_and_changes_map(tmp_path: Path) -> None:
     pixels = room_pixels(80, 60)
     first = write_map(tmp_path, pixels, name="first", origin=(-1.0, -1.0, 0.0))
@@ -220,7 +204,7 @@ def test_basic_navigator_runs_on_a_map_yaml_and_changes_map(tmp_path: Path) -> N
         assert distance(navigator.robot_pose(), Pose2D(x=0.0, y=0.0)) < 0.01
         costmap = navigator.getGlobalCostmap()
         assert (costmap.metadata.size_x, costmap.metadata.size_y) == (80, 60)
-        navigator.goToPose(_goal(1.5, 1.0))
+        navigator.goToPose(msgs.pose_stamped(1.5, 1.0))
         while not navigator.isTaskComplete():
             pass
         assert navigator.getResult() is TaskResult.SUCCEEDED

@@ -16,7 +16,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from baobab.nav import BasicNavigator, TaskResult
-from baobab.nav.msgs import PoseStamped
+from baobab.nav.msgs import PoseStamped, pose_stamped
 from baobab.sim.geometry import nearest_obstacle
 from baobab.sim.world import Pose2D
 
@@ -30,14 +30,6 @@ def navigator(tmp_path: Path, name: str, text: str, **kwargs: object) -> Iterato
         yield nav
     finally:
         nav.destroy_node()
-
-
-def goal(x: float, y: float) -> PoseStamped:
-    pose = PoseStamped()
-    pose.header.frame_id = "map"
-    pose.pose.position.x = x
-    pose.pose.position.y = y
-    return pose
 
 
 def wait(nav: BasicNavigator, limit: float) -> None:
@@ -63,7 +55,7 @@ def test_a_wider_inflation_radius_keeps_the_path_farther_from_the_walls(tmp_path
     clearances = []
     for radius in (0.25, 0.9):
         with navigator(tmp_path, f"r{radius}", _inflation(radius), world="walls") as nav:
-            path = nav.getPath(PoseStamped(), goal(2.2, 0.0), use_start=False)
+            path = nav.getPath(PoseStamped(), pose_stamped(2.2, 0.0), use_start=False)
             assert path is not None
             points = [(p.pose.position.x, p.pose.position.y) for p in path.poses]
             clearances.append(min(nearest_obstacle(nav.world, x, y)[1] for x, y in points[5:-5]))
@@ -85,7 +77,7 @@ def test_a_lower_desired_linear_vel_drives_slower(tmp_path: Path) -> None:
     top_speeds = []
     for velocity in (0.22, 0.1):
         with navigator(tmp_path, f"v{velocity}", _speed(velocity), world="walls") as nav:
-            nav.goToPose(goal(2.0, 2.0))
+            nav.goToPose(pose_stamped(2.0, 2.0))
             fastest = 0.0
             while not nav.isTaskComplete():
                 fastest = max(fastest, abs(nav.server.base.body_velocity()[0]))
@@ -113,7 +105,7 @@ def test_xy_goal_tolerance_decides_where_the_goal_counts_as_reached(tmp_path: Pa
     misses = []
     for xy in (0.05, 0.6):
         with navigator(tmp_path, f"t{xy}", _tolerance(xy), world="walls") as nav:
-            nav.goToPose(goal(2.0, 2.0))
+            nav.goToPose(pose_stamped(2.0, 2.0))
             wait(nav, 120.0)
             assert nav.getResult() is TaskResult.SUCCEEDED
             pose = nav.robot_pose()
@@ -141,7 +133,9 @@ def test_stop_on_failure_stops_the_follower_at_a_blocked_waypoint(tmp_path: Path
     outcomes = []
     for stop in (True, False):
         with navigator(tmp_path, f"s{stop}", _stop(stop), world="walls") as nav:
-            nav.followWaypoints([goal(0.8, 0.8), goal(*blocked), goal(2.0, 2.0)])
+            nav.followWaypoints(
+                [pose_stamped(0.8, 0.8), pose_stamped(*blocked), pose_stamped(2.0, 2.0)]
+            )
             wait(nav, 120.0)
             pose = nav.robot_pose()
             reached_last = math.hypot(pose.x - 2.0, pose.y - 2.0) <= 0.25
@@ -159,7 +153,7 @@ def test_the_waypoint_follower_pauses_as_the_file_says(tmp_path: Path) -> None:
           waypoint_pause_duration: 3000
     """
     with navigator(tmp_path, "pause", text, world="walls", start=Pose2D(x=0.0, y=0.0)) as nav:
-        nav.followWaypoints([goal(0.0, 0.0)])
+        nav.followWaypoints([pose_stamped(0.0, 0.0)])
         start = nav.server.sim.time
         wait(nav, 30.0)
         assert nav.getResult() is TaskResult.SUCCEEDED
@@ -174,7 +168,7 @@ def test_the_velocity_smoother_limits_the_driven_speed(tmp_path: Path) -> None:
         min_velocity: [-0.12, 0.0, -1.0]
     """
     with navigator(tmp_path, "smoothed", text, world="walls") as nav:
-        nav.goToPose(goal(2.0, 2.0))
+        nav.goToPose(pose_stamped(2.0, 2.0))
         fastest = 0.0
         while not nav.isTaskComplete():
             fastest = max(fastest, abs(nav.server.base.body_velocity()[0]))

@@ -12,7 +12,6 @@ from __future__ import annotations
 import itertools
 import json
 import math
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -269,13 +268,6 @@ def test_max_iterations_gives_timeout() -> None:
 
 
 # -- getRoute and getAndTrackRoute on real physics -------------------------------------------
-
-
-@pytest.fixture(scope="module")
-def lanes() -> Iterator[BasicNavigator]:
-    navigator = BasicNavigator(world=load_world(LANES), seed=0)
-    yield navigator
-    navigator.destroy_node()
 
 
 def node_ids(route: Any) -> list[int]:

@@ -25,6 +25,15 @@ from baobab.sim.errors import BaobabError
 REPO = Path(__file__).resolve().parents[1]
 
 
+def _python(script: str) -> str:
+    """Run ``script`` in a fresh interpreter in the repository; what it printed. It must exit 0."""
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
 def test_messages_arrive_in_order_then_the_result() -> None:
     seen: list[Any] = []
 
@@ -120,11 +129,7 @@ def test_the_plotting_process_never_loads_the_simulation_stack(tmp_path: Path) -
         f"code = main(['run', 'walls_go_to_goal', '--json', '--out', {str(out)!r}])\n"
         "print(json.dumps({'code': code, 'modules': sorted(sys.modules)}))\n"
     )
-    done = subprocess.run(
-        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=False
-    )
-    assert done.returncode == 0, done.stderr
-    lines = done.stdout.strip().splitlines()
+    lines = _python(script).strip().splitlines()
     result, parent = json.loads(lines[0]), json.loads(lines[-1])
     assert (parent["code"], result["result"]) == (0, "SUCCEEDED")
     assert (out / "plot.png").stat().st_size > 10_000
@@ -192,11 +197,7 @@ def test_a_refused_mission_leaves_no_run_process_behind(tmp_path: Path) -> None:
         "            for c in open(f'/proc/self/task/{t}/children').read().split()]\n"
         "print(json.dumps({'code': code, 'children': children}))\n"
     )
-    done = subprocess.run(
-        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=False
-    )
-    assert done.returncode == 0, done.stderr
-    assert json.loads(done.stdout) == {"code": 2, "children": []}
+    assert json.loads(_python(script)) == {"code": 2, "children": []}
     assert not (tmp_path / "run").exists()
 
 
@@ -219,11 +220,7 @@ def test_the_run_process_is_forked_before_the_run_command_loads(tmp_path: Path) 
         f"    code = main(['run', {str(bad)!r}, '--out', {str(tmp_path / 'run')!r}])\n"
         "print(json.dumps({'code': code, 'forks': forks}))\n"
     )
-    done = subprocess.run(
-        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=False
-    )
-    assert done.returncode == 0, done.stderr
-    report = json.loads(done.stdout)
+    report = json.loads(_python(script))
     assert report["code"] == 2 and len(report["forks"]) == 1
     loaded = report["forks"][0]
     assert "baobab.missions.cli.run_command" not in loaded
@@ -237,7 +234,4 @@ def test_the_run_process_loads_its_stack_with_the_collector_paused_then_frozen()
         "prepare_run_process()\n"
         "print(json.dumps([gc.isenabled(), gc.get_freeze_count() > 100_000]))\n"
     )
-    done = subprocess.run(
-        [sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, check=True
-    )
-    assert json.loads(done.stdout) == [True, True]  # enabled again; the modules' objects frozen
+    assert json.loads(_python(script)) == [True, True]  # enabled again; the modules' objects frozen
