@@ -57,10 +57,10 @@ def main(argv: list[str] | None = None) -> int:
     lock = _lock(path.with_suffix(".lock"))
     if lock is None:
         return 0  # another server for this socket is starting or serving
-    for quiet in (signal.SIGINT, signal.SIGHUP):
-        signal.signal(quiet, signal.SIG_IGN)
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     preload()
+    for quiet in (signal.SIGINT, signal.SIGHUP):  # after preload: loading entry sets its own
+        signal.signal(quiet, signal.SIG_IGN)
     fingerprint = code_stamps()
     if fork_is_safe():
         unsafe = None
