@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from baobab.missions.cli.run_server_protocol import socket_path
+from baobab.missions.cli.run_server_protocol import server_command, socket_path
 from baobab.missions.run.run_folder import RESULT_FILE, TRACE_FILE
 
 BAOBAB = str(Path(sys.executable).parent / "baobab")
@@ -45,7 +45,7 @@ class Server:
         path = socket_path(self.environ)
         assert path is not None
         self.process = subprocess.Popen(
-            [sys.executable, "-P", "-m", "baobab.missions.cli.run_server", str(path)],
+            server_command(path),
             stdin=subprocess.DEVNULL,
             stderr=subprocess.PIPE,
             env=self.environ,
@@ -216,3 +216,11 @@ def test_a_worker_killed_outright_is_reported_by_its_caller(server: Server, tmp_
     assert process.returncode == 128 + signal.SIGKILL
     assert stderr.splitlines()[-1] == "baobab run: the run's process was killed by SIGKILL"
     assert f"ended with exit code {128 + signal.SIGKILL}" in server.next_line()
+
+
+def test_the_server_outlives_a_stray_sigint_or_sighup(server: Server, tmp_path: Path) -> None:
+    for signum in (signal.SIGINT, signal.SIGHUP):  # it has no terminal: neither means "stop"
+        server.process.send_signal(signum)
+    done = _run(["run", "walls_go_to_goal", "--out", "run"], tmp_path, server.environ)
+    assert done.returncode == 0, done.stderr
+    assert "worker" in server.next_line() and "exit code 0" in server.next_line()
