@@ -12,6 +12,12 @@ Nav2's default trees (reference/nav2.md §4) use four control nodes py_trees lac
 :class:`ReactiveFallback` is py_trees' memoryless ``Selector`` that also resets its children
 on activation; Nav2's reactive sequence and (memoryful) sequence are py_trees' ``Sequence``.
 
+The tree ticks at 20 Hz, so baobab's nodes tick their children by a direct call
+(:meth:`Direct.step`, through :func:`tick_child`) instead of py_trees' nested generators, which
+pass every node of the traversal up through every parent; py_trees' own nodes inside the tree
+(the sequences) still tick through their generators, and :meth:`Direct.tick` is the generator
+form of :meth:`Direct.step` for them and for ``tick_once``.
+
 BehaviorTree.CPP and py_trees differ in one way that matters here. In BT.CPP a parent *halts*
 only running children and *resets* finished ones; py_trees stops both with ``INVALID``. The
 nodes below tell the two apart by the status the node had when it was stopped, so a finished
@@ -31,16 +37,41 @@ Clock = Callable[[], float]
 _STATUSES = frozenset(Status)
 
 
-class Leaf(Behaviour):
-    """A py_trees leaf with the same lifecycle and less overhead per tick.
+class Direct(Behaviour):
+    """A node that ticks by a direct call: :meth:`step` does the whole tick and returns the
+    new status; :meth:`tick`, py_trees' generator, runs it and yields the node once."""
 
-    ``tick`` and ``stop`` do what :class:`py_trees.behaviour.Behaviour`'s do (initialise when
-    not running, update, stop on a finished status, then record it) without formatting debug
-    messages nobody reads or listing the status enum on every tick; the leaves tick at 20 Hz.
-    """
+    def step(self) -> Status:
+        """Tick once; the node's new status."""
+        raise NotImplementedError
 
     def tick(self) -> Iterator[Behaviour]:
-        """Initialise if not running, update, stop when finished; yields itself."""
+        """:meth:`step`, as py_trees' tick generator (yields the node itself)."""
+        self.step()
+        yield self
+
+
+def tick_child(child: Behaviour) -> Status:
+    """Tick ``child`` once and return its new status: baobab's nodes by :meth:`Direct.step`,
+    py_trees' own through their tick generator."""
+    if isinstance(child, Direct):
+        return child.step()
+    for _ in child.tick():
+        pass
+    return child.status
+
+
+class Leaf(Direct):
+    """A py_trees leaf with the same lifecycle and less overhead per tick.
+
+    ``step`` and ``stop`` do what :class:`py_trees.behaviour.Behaviour`'s ``tick`` and ``stop``
+    do (initialise when not running, update, stop on a finished status, then record it)
+    without formatting debug messages nobody reads or listing the status enum on every tick;
+    the leaves tick at 20 Hz.
+    """
+
+    def step(self) -> Status:
+        """Initialise if not running, update, stop when finished; the new status."""
         if self.status is not Status.RUNNING:
             self.initialise()
         new_status = self.update()
@@ -50,7 +81,7 @@ class Leaf(Behaviour):
         if new_status is not Status.RUNNING:
             self.stop(new_status)
         self.status = new_status
-        yield self
+        return new_status
 
     def stop(self, new_status: Status) -> None:
         """Terminate with ``new_status`` and record it (py_trees' ``stop`` without the log)."""
@@ -71,7 +102,7 @@ def _halt_running(children: Sequence[Behaviour]) -> None:
             child.stop(Status.INVALID)
 
 
-class PipelineSequence(py_trees.composites.Composite):
+class PipelineSequence(Direct, py_trees.composites.Composite):
     """Nav2's ``PipelineSequence``: a sequence that keeps ticking the children it has passed.
 
     Each tick goes through the children from the first. A child that fails fails the whole
@@ -84,26 +115,24 @@ class PipelineSequence(py_trees.composites.Composite):
         super().__init__(name, children)
         self._last_started = 0
 
-    def tick(self) -> Iterator[Behaviour]:
+    def step(self) -> Status:
         """Tick the children as described in the class docstring."""
         if self.status is not Status.RUNNING:
             _reset(self.children)
             self._last_started = 0
             self.initialise()
         for index, child in enumerate(self.children):
-            yield from child.tick()
-            if child.status is Status.FAILURE:
+            status = tick_child(child)
+            if status is Status.FAILURE:
                 self._finish(Status.FAILURE)
-                yield self
-                return
-            if child.status is Status.RUNNING and index >= self._last_started:
+                return self.status
+            if status is Status.RUNNING and index >= self._last_started:
                 self._last_started = index
                 self.current_child = child
                 self.status = Status.RUNNING
-                yield self
-                return
+                return Status.RUNNING
         self._finish(Status.SUCCESS)
-        yield self
+        return self.status
 
     def _finish(self, status: Status) -> None:
         _halt_running(self.children)
@@ -117,7 +146,7 @@ class PipelineSequence(py_trees.composites.Composite):
         super().stop(new_status)
 
 
-class RecoveryNode(py_trees.composites.Composite):
+class RecoveryNode(Direct, py_trees.composites.Composite):
     """Nav2's ``RecoveryNode``: ``[action, recovery]`` with a retry budget.
 
     The action's success is the node's success. When the action fails and fewer than
@@ -141,7 +170,7 @@ class RecoveryNode(py_trees.composites.Composite):
         self.retry_count = 0
         self._index = 0
 
-    def tick(self) -> Iterator[Behaviour]:
+    def step(self) -> Status:
         """Tick the action, and the recovery when the action failed."""
         if self.status is not Status.RUNNING:
             _reset(self.children)
@@ -150,13 +179,11 @@ class RecoveryNode(py_trees.composites.Composite):
             self.initialise()
         while True:
             child = self.children[self._index]
-            yield from child.tick()
-            status = child.status
+            status = tick_child(child)
             if status is Status.RUNNING:
                 self.current_child = child
                 self.status = Status.RUNNING
-                yield self
-                return
+                return Status.RUNNING
             if self._index == 0:
                 if status is Status.FAILURE and self.retry_count < self.number_of_retries:
                     self._index = 1
@@ -168,8 +195,7 @@ class RecoveryNode(py_trees.composites.Composite):
                 continue
             else:
                 self._finish(Status.FAILURE)
-            yield self
-            return
+            return self.status
 
     def _finish(self, status: Status) -> None:
         self._index = 0
@@ -182,7 +208,7 @@ class RecoveryNode(py_trees.composites.Composite):
         super().stop(new_status)
 
 
-class RoundRobin(py_trees.composites.Composite):
+class RoundRobin(Direct, py_trees.composites.Composite):
     """Nav2's ``RoundRobin``: one child per activation, in turn.
 
     An activation starts at the child after the one that last finished and moves on while
@@ -196,7 +222,7 @@ class RoundRobin(py_trees.composites.Composite):
         self.index = 0
         self._failures = 0
 
-    def tick(self) -> Iterator[Behaviour]:
+    def step(self) -> Status:
         """Tick the current child; move on when it finishes."""
         if self.status is not Status.RUNNING:
             _reset(self.children)
@@ -205,24 +231,21 @@ class RoundRobin(py_trees.composites.Composite):
         count = len(self.children)
         while self._failures < count:
             child = self.children[self.index]
-            yield from child.tick()
-            status = child.status
+            status = tick_child(child)
             if status is Status.RUNNING:
                 self.current_child = child
                 self.status = Status.RUNNING
-                yield self
-                return
+                return Status.RUNNING
             self.index = (self.index + 1) % count
             if status is Status.SUCCESS:
                 self._failures = 0
                 self.stop(Status.SUCCESS)
-                yield self
-                return
+                return self.status
             self._failures += 1
         self.index = 0
         self._failures = 0
         self.stop(Status.FAILURE)
-        yield self
+        return self.status
 
     def stop(self, new_status: Status = Status.INVALID) -> None:
         """A halt of a running round robin sends it back to its first child."""
@@ -232,7 +255,7 @@ class RoundRobin(py_trees.composites.Composite):
         super().stop(new_status)
 
 
-class RateController(py_trees.decorators.Decorator):
+class RateController(Direct, py_trees.decorators.Decorator):
     """Nav2's ``RateController``: tick the child at most ``hz`` times per second of sim time.
 
     The child is ticked on the first tick of an activation, on every tick while it runs, and
@@ -265,7 +288,7 @@ class RateController(py_trees.decorators.Decorator):
         self._start = 0.0
         self._first = True
 
-    def tick(self) -> Iterator[Behaviour]:
+    def step(self) -> Status:
         """Tick the child when due, else report RUNNING."""
         now = self._clock()
         if self.status in (Status.INVALID, Status.FAILURE):
@@ -280,18 +303,16 @@ class RateController(py_trees.decorators.Decorator):
         )
         if not due:
             self.status = Status.RUNNING
-            yield self
-            return
+            return Status.RUNNING
         self._first = False
-        yield from self.decorated.tick()
-        status = self.decorated.status
+        status = tick_child(self.decorated)
         if status is Status.RUNNING:
             self.status = Status.RUNNING
         else:
             if status is Status.SUCCESS:
                 self._start = self._clock()
             self.stop(status)
-        yield self
+        return self.status
 
     def update(self) -> Status:
         """Unused: :meth:`tick` decides."""

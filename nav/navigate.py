@@ -52,6 +52,7 @@ from baobab.nav.bt import (
     RoundRobin,
     reactive_sequence,
     sequence,
+    tick_child,
 )
 from baobab.nav.bt_nodes import (
     CONTROLLER_RECOVERABLE_CODES,
@@ -279,7 +280,7 @@ class NavigateTask:
         """Tick the tree once at sim time ``now`` (s); the outcome when it finished."""
         if self._start_time is None:
             self._start_time = now
-        self.root.tick_once()
+        tick_child(self.root)
         self._update_feedback(now)
         outcome = self._outcome()
         if outcome is not None:
