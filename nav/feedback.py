@@ -13,11 +13,14 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
+from typing import Any, Protocol
 
 import numpy as np
 
 from baobab.nav.path import Path, wrap_angle
+from baobab.sim.world import Pose2D
 
 
 class PathProgress:
@@ -52,23 +55,32 @@ class PathProgress:
 
 
 class SpeedFilter:
-    """Moving average of the forward speed over the last ``filter_duration`` seconds (sim time)."""
+    """Moving average of the forward speed over the last ``filter_duration`` seconds (sim time).
+
+    The samples' times and speeds are kept apart, so the average is one ``sum`` over floats
+    (the samples added oldest first, as always).
+    """
 
     def __init__(self, filter_duration: float = 0.3) -> None:
         self.filter_duration = filter_duration
-        self._samples: deque[tuple[float, float]] = deque()
+        self._times: deque[float] = deque()
+        self._speeds: deque[float] = deque()
 
     def add(self, now: float, speed: float) -> float:
         """Add a sample at sim time ``now`` (s) and return the average speed (m/s)."""
-        samples = self._samples
-        samples.append((now, speed))
-        while samples and samples[0][0] < now - self.filter_duration - 1e-9:
-            samples.popleft()
-        return sum(value for _, value in samples) / len(samples)
+        times, speeds = self._times, self._speeds
+        times.append(now)
+        speeds.append(speed)
+        oldest = now - self.filter_duration - 1e-9
+        while times and times[0] < oldest:
+            times.popleft()
+            speeds.popleft()
+        return sum(speeds) / len(speeds)
 
     def reset(self) -> None:
         """Forget the samples."""
-        self._samples.clear()
+        self._times.clear()
+        self._speeds.clear()
 
 
 def estimated_time_remaining(distance: float, speed: float) -> float:
@@ -93,6 +105,78 @@ class PathTracking:
     position_error: float
     heading_error: float
     index: int
+
+
+class TrackingErrors(Protocol):
+    """Where a controller cycle found the robot against its path (the compiled cycle's
+    :class:`~baobab.nav.rpp_kernel.PursuitStep` has these fields)."""
+
+    @property
+    def position_error(self) -> float:
+        """Signed distance (m) off the path, as :attr:`PathTracking.position_error`."""
+        ...
+
+    @property
+    def heading_error(self) -> float:
+        """rad, as :attr:`PathTracking.heading_error`."""
+        ...
+
+    @property
+    def tracking_index(self) -> int:
+        """The segment, as :attr:`PathTracking.index`."""
+        ...
+
+
+class ControllerTracking(Mapping[str, Any]):
+    """Nav2's ``TrackingFeedback`` fields of one controller cycle (m, rad, m/s), read only.
+
+    Built every cycle from what the cycle found, but the fields (a dict) are put together
+    only when first read: the controller runs at 20 Hz, its feedback is read far less often.
+    The inputs are immutable, so the fields are the ones the cycle would have written.
+
+    Args:
+        errors: the cycle's tracking errors.
+        pose: the robot's pose the cycle used.
+        goal: the path's last pose.
+        speed: the robot's forward speed (m/s) the cycle used.
+        remaining: path length (m) left from the pose closest to the robot.
+    """
+
+    __slots__ = ("_errors", "_fields", "_goal", "_pose", "_remaining", "_speed")
+
+    def __init__(
+        self, errors: TrackingErrors, pose: Pose2D, goal: Pose2D, speed: float, remaining: float
+    ) -> None:
+        self._errors, self._pose, self._goal = errors, pose, goal
+        self._speed, self._remaining = speed, remaining
+        self._fields: dict[str, Any] | None = None
+
+    def _values(self) -> dict[str, Any]:
+        fields = self._fields
+        if fields is None:
+            errors, pose, goal = self._errors, self._pose, self._goal
+            fields = self._fields = {
+                "position_tracking_error": errors.position_error,
+                "heading_tracking_error": errors.heading_error,
+                "current_path_index": errors.tracking_index,
+                "robot_pose": pose,
+                "distance_to_goal": math.hypot(goal.x - pose.x, goal.y - pose.y),
+                "speed": self._speed,
+                "remaining_path_length": self._remaining,
+            }
+        return fields
+
+    def __getitem__(self, key: str) -> Any:
+        return self._values()[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._values())
+
+    def __len__(self) -> int:
+        return len(self._values())
+
+    def __repr__(self) -> str:
+        return f"ControllerTracking({self._values()!r})"
 
 
 def path_tracking(path: Path, closest: int, x: float, y: float, yaw: float) -> PathTracking:

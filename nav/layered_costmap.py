@@ -180,8 +180,11 @@ class LayeredCostmap:
 
     @property
     def costmap(self) -> Costmap2D:
-        """The master costmap, brought up to date with every change so far."""
-        self._refresh()
+        """The master costmap, brought up to date with every change so far (recomputed only
+        when a layer changed since it was last read: the controller reads it at 20 Hz, the
+        scans and the window's moves change it at 5 Hz)."""
+        if self._changed or self._stale:
+            self._refresh()
         return self._master
 
     @property
@@ -335,8 +338,6 @@ class LayeredCostmap:
 
     def _refresh(self) -> None:
         """Recompute the master where something changed, plus the inflation reach."""
-        if not self._changed and not self._stale:
-            return
         size_x, size_y = self._master.size_x, self._master.size_y
         margin = self.inflation_layer.margin_cells(self.resolution)
         table, reach = self.inflation_layer.cost_table(self.resolution)

@@ -100,9 +100,10 @@ class RegulatedPurePursuit:
     Attributes:
         last_carrot: map-frame ``(x, y)`` of the last carrot, for display.
         closest_index: index in the path of the pose nearest to the robot.
-        tracking: the tracking errors of the last cycle against the path near
+        step: what the last cycle's compiled step found (None before the first): the
+            command, the carrot, and the tracking errors against the path near
             ``closest_index`` (:func:`baobab.nav.feedback.path_tracking`, computed in the
-            compiled cycle).
+            compiled cycle; :attr:`tracking` has them as a record).
     """
 
     def __init__(self, params: RegulatedPurePursuitParams | None = None) -> None:
@@ -112,7 +113,15 @@ class RegulatedPurePursuit:
         self._along = np.zeros(1)
         self.closest_index = 0
         self.last_carrot: tuple[float, float] | None = None
-        self.tracking = PathTracking(0.0, 0.0, 0)
+        self.step: kernel.PursuitStep | None = None
+
+    @property
+    def tracking(self) -> PathTracking:
+        """The tracking errors of the last cycle (zeros before the first)."""
+        step = self.step
+        if step is None:
+            return PathTracking(0.0, 0.0, 0)
+        return PathTracking(step.position_error, step.heading_error, step.tracking_index)
 
     def set_speed_limit(self, limit: SpeedLimit | None) -> None:
         """Nav2's ``setSpeedLimit``: the top speed becomes ``desired_linear_vel`` limited by
@@ -162,7 +171,7 @@ class RegulatedPurePursuit:
             self._settings,
         )
         self.closest_index = step.closest
-        self.tracking = PathTracking(step.position_error, step.heading_error, step.tracking_index)
+        self.step = step
         if step.status == kernel.NO_POSE_NEAR:
             raise NavigationError(
                 FollowPathError.INVALID_PATH,
