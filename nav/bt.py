@@ -27,6 +27,7 @@ round robin keeps its position (as in Nav2) while a halted one starts over.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
+from typing import ClassVar
 
 import py_trees
 from py_trees.behaviour import Behaviour
@@ -34,12 +35,15 @@ from py_trees.behaviour import Behaviour
 Status = py_trees.common.Status
 Clock = Callable[[], float]
 """Returns the sim time (s)."""
-_STATUSES = frozenset(Status)
 
 
 class Direct(Behaviour):
     """A node that ticks by a direct call: :meth:`step` does the whole tick and returns the
     new status; :meth:`tick`, py_trees' generator, runs it and yields the node once."""
+
+    ticks_directly: ClassVar[bool] = True
+    """Marks the nodes :func:`tick_child` calls directly (a class attribute is read faster
+    than ``isinstance`` answers for py_trees' abstract base class)."""
 
     def step(self) -> Status:
         """Tick once; the node's new status."""
@@ -54,8 +58,8 @@ class Direct(Behaviour):
 def tick_child(child: Behaviour) -> Status:
     """Tick ``child`` once and return its new status: baobab's nodes by :meth:`Direct.step`,
     py_trees' own through their tick generator."""
-    if isinstance(child, Direct):
-        return child.step()
+    if getattr(child, "ticks_directly", False):
+        return child.step()  # type: ignore[attr-defined]  # a Direct node
     for _ in child.tick():
         pass
     return child.status
@@ -75,7 +79,7 @@ class Leaf(Direct):
         if self.status is not Status.RUNNING:
             self.initialise()
         new_status = self.update()
-        if new_status not in _STATUSES:
+        if type(new_status) is not Status:  # py_trees: not in list(Status); no enum hashing
             self.logger.error(f"invalid status [{new_status}][{self.name}], setting INVALID")
             new_status = Status.INVALID
         if new_status is not Status.RUNNING:
