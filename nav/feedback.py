@@ -6,7 +6,8 @@ the pose closest to the robot (searched within a window ahead of the last closes
 ``estimated_time_remaining`` is that distance over the odometry speed averaged over
 ``filter_duration``, or 0 when the robot barely moves or is almost there. The controller's
 ``TrackingFeedback`` (:func:`path_tracking`) says how far the robot is off its path; the
-controller's compiled cycle computes it (:mod:`baobab.nav.tracking_kernel`, tested against this).
+controller's compiled cycle computes it (:mod:`baobab.nav.tracking_kernel`, tested against this)
+and hands its fields on as a :class:`ControllerTracking`, put together when read.
 """
 
 from __future__ import annotations
