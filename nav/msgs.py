@@ -290,7 +290,7 @@ def quaternion_from_yaw(yaw: float) -> Quaternion:
     """The quaternion of a rotation by ``yaw`` (rad) about +z: ``z = sin(yaw/2), w = cos(yaw/2)``
     (what scipy's ``Rotation.from_euler("z", yaw)`` gives, without its per-call cost)."""
     half = 0.5 * float(yaw)
-    return Quaternion(z=math.sin(half), w=math.cos(half))
+    return Quaternion.unchecked(x=0.0, y=0.0, z=math.sin(half), w=math.cos(half))
 
 
 def yaw_from_quaternion(q: Quaternion) -> float:
@@ -329,9 +329,10 @@ def pose_stamped(
 
     ``stamp`` may be a message or an rclpy-style :class:`Time`; ``None`` is the zero stamp.
     """
-    return PoseStamped(
+    position = Point.unchecked(x=float(x), y=float(y), z=0.0)
+    return PoseStamped.unchecked(
         header=Header(stamp=_stamp_msg(stamp), frame_id=frame_id),
-        pose=Pose(position=Point(x=float(x), y=float(y)), orientation=quaternion_from_yaw(yaw)),
+        pose=Pose.unchecked(position=position, orientation=quaternion_from_yaw(yaw)),
     )
 
 

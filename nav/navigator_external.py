@@ -151,7 +151,9 @@ class NavigatorExternal(NavigatorTasks):
         except GoalRejectedError as exc:
             self._request_failed("Getting route", exc, ComputeRouteError.UNKNOWN)
             return None
-        self._advance(ROUTE_PLANNING_LIMIT, lambda: handle.outcome is not None)
+        self._advance(
+            ROUTE_PLANNING_LIMIT, lambda: handle.outcome is not None, changes_in_callbacks=True
+        )
         outcome = handle.outcome
         if outcome is None:
             handle.cancel()

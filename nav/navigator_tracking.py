@@ -165,7 +165,7 @@ class NavigatorTracking(NavigatorCore):
         goal = self._watched(task, trackingRoute)
         if goal is None or goal.outcome() is not None:
             return True
-        self._advance(POLL_HORIZON, lambda: goal.outcome() is not None)
+        self._advance(POLL_HORIZON, lambda: goal.outcome() is not None, changes_in_callbacks=True)
         outcome = goal.outcome()
         if outcome is None:
             return False

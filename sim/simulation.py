@@ -124,6 +124,12 @@ class Simulation:
         """Physics steps taken since construction."""
         return self._step
 
+    @property
+    def next_callback_step(self) -> float:
+        """The physics step at which the next callback is due (``math.inf`` with none). The
+        callbacks due at the current step have not run yet: they run when stepping from it."""
+        return self._next_due
+
     def steps_for(self, duration: float, *, what: str = "duration") -> int:
         """Convert ``duration`` (s) to a whole number of physics steps, or raise.
 

@@ -470,3 +470,22 @@ def test_construction_defaults_clock_and_errors() -> None:
         navigator.destroyNode()
     with pytest.raises(Exception, match="destroyed"):
         navigator.goToPose(pose_stamped(1.0, 0.0))
+
+
+@pytest.mark.parametrize("flip_at", [0.0, 0.035, 0.05, 0.2, 0.455])
+def test_a_poll_skips_only_checks_that_cannot_change(cafe: BasicNavigator, flip_at: float) -> None:
+    """Stepping from callback to callback stops at the same step as checking every slice: the
+    end of the first 10 ms slice after the callback that made the condition true."""
+    sim = cafe._rig.sim
+    ended: list[float] = []
+    stops = []
+    for skipping in (True, False):
+        ended.clear()
+        start = sim.step_count
+        handle = sim.every(10.0, ended.append, name="flip", first_call=sim.time + flip_at)
+        cafe._advance(1.0, lambda: bool(ended), changes_in_callbacks=skipping)
+        handle.cancel()
+        stops.append(sim.step_count - start)
+    slice_steps = round(0.01 / sim.physics_dt)
+    flip_step = round(flip_at / sim.physics_dt)
+    assert stops[0] == stops[1] == (flip_step // slice_steps + 1) * slice_steps
