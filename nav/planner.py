@@ -86,6 +86,7 @@ class GlobalPlanner:
         self.smoother = smoother if smoother is not None else SimpleSmoother()
         self.weights = step_weights(self.params.cost_travel_multiplier, self.params.allow_unknown)
         self._search = GridSearch()
+        self._packed_smoother: tuple[SimpleSmoother, np.ndarray] | None = None
 
     def create_plan(self, start: Pose2D, goal: Pose2D, costmap: Costmap2D) -> Path:
         """A smoothed path from ``start`` to ``goal``; poses face along the path.
@@ -97,10 +98,18 @@ class GlobalPlanner:
         return self.path_of(self.search(start, goal, costmap), goal, costmap)
 
     def path_of(self, raw: RawPlan, goal: Pose2D, costmap: Costmap2D) -> Path:
-        """The path :meth:`create_plan` makes of a search result: smoothed, poses oriented."""
-        path = Path.from_points(raw.points, goal.yaw)
-        if self.smoother is not None:
-            path = self.smoother.smooth(path, costmap).path
+        """The path :meth:`create_plan` makes of a search result: smoothed, poses oriented.
+
+        The search's points are smoothed as they are (the smoother reads no orientation) and
+        the poses are oriented once, on the smoothed points.
+        """
+        points = raw.points
+        smoother = self.smoother
+        if smoother is not None:
+            if self._packed_smoother is None or self._packed_smoother[0] is not smoother:
+                self._packed_smoother = (smoother, smoother.pack())  # packed once per smoother
+            points = smoother.smooth_points(points, costmap, self._packed_smoother[1]).points
+        path = Path.from_points(points, goal.yaw)
         if self.params.use_final_approach_orientation and len(path) > 1:
             path = Path.from_points(path.xy, float(path.yaws[-2]))
         return path
@@ -127,15 +136,22 @@ class GlobalPlanner:
                 f"goal {_xy(goal)} puts the robot's footprint on an obstacle at yaw "
                 f"{goal.yaw:.2f} rad",
             )
-        targets = self._goal_candidates(grid, costmap, goal)
-        if len(targets) == 0:
-            raise NavigationError(
-                codes.GOAL_OCCUPIED,
-                f"goal {_xy(goal)} is in an obstacle with no free cell within "
-                f"{self.params.tolerance} m",
-            )
+        goal_rc = (goal_cell[1], goal_cell[0])
+        # The goal's own cell, when open, is the first candidate (distance -1): the others are
+        # needed only when the search cannot reach it.
+        targets = None
+        if self.weights[grid[goal_rc]] > 0 and self.params.tolerance >= 0:
+            first = goal_rc
+        else:
+            targets = self._goal_candidates(grid, costmap, goal)
+            if len(targets) == 0:
+                raise NavigationError(
+                    codes.GOAL_OCCUPIED,
+                    f"goal {_xy(goal)} is in an obstacle with no free cell within "
+                    f"{self.params.tolerance} m",
+                )
+            first = (int(targets[0][1]), int(targets[0][0]))
         start_rc = (start_cell[1], start_cell[0])
-        first = (int(targets[0][1]), int(targets[0][0]))
         result = self._search.search(
             grid, self.weights, start_rc, first, self.params.max_iterations
         )
@@ -145,28 +161,23 @@ class GlobalPlanner:
             )
         end_rc = first
         if result.status == EXHAUSTED:
+            if targets is None:
+                targets = self._goal_candidates(grid, costmap, goal)
             reached = self._search.reached()
             hits = reached[targets[:, 1], targets[:, 0]]
             if not hits.any():
                 reach = f"no path from {_xy(start)} to within {self.params.tolerance} m of the goal"
-                if self.weights[grid[goal_cell[1], goal_cell[0]]] == 0:
+                if self.weights[grid[goal_rc]] == 0:
                     raise NavigationError(
                         codes.GOAL_OCCUPIED, f"goal {_xy(goal)} is in an obstacle and {reach}"
                     )
                 raise NavigationError(codes.NO_VALID_PATH, f"{reach} {_xy(goal)}")
             nearest = targets[int(np.argmax(hits))]
             end_rc = (int(nearest[1]), int(nearest[0]))
-        rows_cols = self._search.path_to(end_rc)
-        cells = rows_cols[:, ::-1].copy()
-        xs, ys = costmap.map_to_world_array(cells[:, 0], cells[:, 1])
-        points = np.column_stack([xs, ys])
-        points[0] = (start.x, start.y)
-        substituted = end_rc != (goal_cell[1], goal_cell[0])
-        if not substituted:
-            if len(points) == 1:
-                points = np.vstack([points, [(goal.x, goal.y)]])
-            else:
-                points[-1] = (goal.x, goal.y)
+        substituted = end_rc != goal_rc
+        ends = np.array([(start.x, start.y), (goal.x, goal.y)])
+        flat = self._search.trace(end_rc)
+        cells, points = _plan_points(flat, costmap.size_x, costmap.pack(), ends, not substituted)
         return RawPlan(cells, points, self._search.cost_to(end_rc), result.expansions, substituted)
 
     def _goal_candidates(self, grid: np.ndarray, costmap: Costmap2D, goal: Pose2D) -> np.ndarray:
@@ -221,6 +232,34 @@ def _goal_candidates(
                 found += 1
     order = np.argsort(distances[:found], kind="mergesort")
     return found_cells[:found][order]
+
+
+@numba.njit(cache=True, nogil=True)
+def _plan_points(
+    flat: np.ndarray, width: int, grid: np.ndarray, ends: np.ndarray, goal_reached: bool
+) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover - compiled
+    """The cells ``(ix, iy)`` and map points (m) of a searched path of flat cell indices
+    ``iy * width + ix``, start first.
+
+    The points are the cell centres of the :data:`~baobab.nav.costmap.GRID` record ``grid``,
+    except the first, which is the exact start ``ends[0]``, and, when ``goal_reached``, the
+    last, which is the exact goal ``ends[1]`` (appended when the path is the start's cell
+    alone).
+    """
+    g = grid[0]
+    count = flat.shape[0]
+    cells = np.empty((count, 2), np.int64)
+    extra = 1 if goal_reached and count == 1 else 0
+    points = np.empty((count + extra, 2))
+    for k in range(count):
+        ix, iy = flat[k] % width, flat[k] // width
+        cells[k, 0], cells[k, 1] = ix, iy
+        points[k, 0] = g.origin_x + (ix + 0.5) * g.resolution
+        points[k, 1] = g.origin_y + (iy + 0.5) * g.resolution
+    points[0, 0], points[0, 1] = ends[0, 0], ends[0, 1]
+    if goal_reached:
+        points[count + extra - 1, 0], points[count + extra - 1, 1] = ends[1, 0], ends[1, 1]
+    return cells, points
 
 
 def step_weights(cost_travel_multiplier: float, allow_unknown: bool) -> np.ndarray:

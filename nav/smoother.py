@@ -11,6 +11,7 @@ sweep is returned. With ``do_refinement`` the smoothed path is smoothed again, u
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -96,6 +97,14 @@ class SmoothResult:
     was_completed: bool
 
 
+class SmoothedPoints(NamedTuple):
+    """Smoothed points and whether every smoothing round converged without collision."""
+
+    points: np.ndarray
+    """``(N, 2)`` map positions (m)."""
+    was_completed: bool
+
+
 @dataclass(frozen=True)
 class SimpleSmoother:
     """Nav2's ``nav2_smoother::SimpleSmoother`` with its defaults."""
@@ -119,18 +128,30 @@ class SimpleSmoother:
         """
         if len(path) < 3:
             return SmoothResult(path, True)
+        smoothed = self.smooth_points(path.xy, costmap)
+        path_out = Path.from_points(smoothed.points, float(path.yaws[-1]), path.frame_id)
+        return SmoothResult(path_out, smoothed.was_completed)
+
+    def smooth_points(
+        self, points: np.ndarray, costmap: Costmap2D | None, settings: np.ndarray | None = None
+    ) -> SmoothedPoints:
+        """Smooth ``(N, 2)`` map points (m) as :meth:`smooth` does; the input is not changed.
+
+        ``settings`` is this smoother's :meth:`pack`, for a caller that keeps it (packed here
+        when omitted). Fewer than three points come back as they are.
+        """
+        xy = np.ascontiguousarray(points, dtype=float)
+        if xy.shape[0] < 3:
+            return SmoothedPoints(xy, True)
         if costmap is None:
             cells = np.zeros((0, 0), dtype=np.uint8)
             grid = record(GRID, origin_x=0.0, origin_y=0.0, resolution=1.0, inscribed_radius=0.0)
         else:
             cells, grid = costmap.data, costmap.pack()
-        settings = self.pack()
-        points = np.ascontiguousarray(path.xy, dtype=float)
-        completed = True
+        if settings is None:
+            settings = self.pack()
         for _ in range(1 + (self.refinement_num if self.do_refinement else 0)):
-            status, points = _smooth_round(points, cells, grid, settings)
+            status, xy = _smooth_round(xy, cells, grid, settings)
             if status != CONVERGED:
-                completed = False
-                break
-        smoothed = Path.from_points(points, float(path.yaws[-1]), path.frame_id)
-        return SmoothResult(smoothed, completed)
+                return SmoothedPoints(xy, False)
+        return SmoothedPoints(xy, True)

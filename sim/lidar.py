@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 
 import mujoco
 import numpy as np
@@ -70,7 +71,12 @@ class LaserScan:
         return self.angle_min + self.angle_increment * np.arange(len(self.ranges))
 
     def pack(self) -> np.ndarray:
-        """The scan's figures and sensor pose as a :data:`SCAN` record."""
+        """The scan's figures and sensor pose as a :data:`SCAN` record; read only (made once:
+        both costmaps mark the same scan)."""
+        return self._record
+
+    @cached_property
+    def _record(self) -> np.ndarray:
         pose = self.sensor_pose
         return record(SCAN, self, x=pose.x, y=pose.y, yaw=pose.yaw)
 

@@ -13,8 +13,9 @@ from baobab.missions.run.event_targets import ObstacleSlots
 from baobab.robots.turtlebot3 import build_turtlebot3_sim
 from baobab.sim import Simulation
 from baobab.sim.builder import world_spec
-from baobab.sim.lidar import LaserScan, Lidar
+from baobab.sim.lidar import SCAN, LaserScan, Lidar
 from baobab.sim.lidar_kernel import fan_directions
+from baobab.sim.records import record
 from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World
 
 
@@ -119,6 +120,19 @@ def test_each_scan_owns_its_ranges() -> None:
     sim.step_for(1.0)
     assert scans[0].ranges is not scans[-1].ranges
     assert scans[-1].ranges[0] < scans[0].ranges[0] - 0.1
+
+
+def test_a_scan_packs_its_figures_once() -> None:
+    # Both costmaps mark each scan: its record is made once, and is the scan's own.
+    first = _first_scan(_world(), Pose2D(x=0.5, y=-0.25, yaw=0.75))
+    packed = first.pack()
+    pose = first.sensor_pose
+    assert packed is first.pack()
+    assert packed.dtype == SCAN
+    assert packed.tolist() == record(SCAN, first, x=pose.x, y=pose.y, yaw=pose.yaw).tolist()
+    second = _first_scan(_world(), Pose2D(x=-1.0, y=0.5, yaw=-2.0))
+    assert second.pack()[0]["x"] == second.sensor_pose.x != packed[0]["x"]
+    assert second.pack()[0]["yaw"] == second.sensor_pose.yaw
 
 
 def test_noise_is_seeded() -> None:

@@ -5,10 +5,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from baobab.nav.costmap import MAX_NON_OBSTACLE, NO_INFORMATION, Costmap2D
+from baobab.nav.errors import NavigationError
 from baobab.nav.path import Path
-from baobab.nav.planner import GlobalPlanner, PlannerParams
+from baobab.nav.planner import GlobalPlanner, PlannerParams, _plan_points
 from baobab.nav.smoother import COLLISION, CONVERGED, MAX_ITERATIONS, SimpleSmoother, _smooth_round
 from baobab.sim.world import Pose2D
 
@@ -119,3 +121,124 @@ def test_a_planned_path_is_the_smoothed_raw_path() -> None:
     smoothed = SimpleSmoother().smooth(Path.from_points(raw.points, goal.yaw), costmap).path
     path = planner.create_plan(start, goal, costmap)
     assert np.array_equal(path.poses, smoothed.poses)
+
+
+def reference_plan_points(
+    rows_cols: np.ndarray, costmap: Costmap2D, start: Pose2D, goal: Pose2D, reached: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """The numpy version :func:`_plan_points` replaced: cells, centres, then the exact ends."""
+    cells = rows_cols[:, ::-1].copy()
+    xs, ys = costmap.map_to_world_array(cells[:, 0], cells[:, 1])
+    points = np.column_stack([xs, ys])
+    points[0] = (start.x, start.y)
+    if reached:
+        if len(points) == 1:
+            points = np.vstack([points, [(goal.x, goal.y)]])
+        else:
+            points[-1] = (goal.x, goal.y)
+    return cells, points
+
+
+def test_plan_points_match_the_numpy_version() -> None:
+    rng = np.random.default_rng(11)
+    for case in range(300):
+        width, height = int(rng.integers(1, 50)), int(rng.integers(1, 50))
+        resolution = float(rng.choice([0.05, 0.1, 0.037]))
+        costmap = Costmap2D(width, height, resolution, (float(rng.normal()), float(rng.normal())))
+        count = int(rng.integers(1, 30))
+        rows_cols = np.column_stack(
+            [rng.integers(0, height, count), rng.integers(0, width, count)]
+        ).astype(np.int64)
+        start = Pose2D(x=float(rng.normal()), y=float(rng.normal()))
+        goal = Pose2D(x=float(rng.normal()), y=float(rng.normal()))
+        reached = case % 2 == 0
+        flat = rows_cols[:, 0] * width + rows_cols[:, 1]
+        ends = np.array([(start.x, start.y), (goal.x, goal.y)])
+        cells, points = _plan_points(flat, width, costmap.pack(), ends, reached)
+        expected_cells, expected_points = reference_plan_points(
+            rows_cols, costmap, start, goal, reached
+        )
+        assert np.array_equal(cells, expected_cells)
+        assert np.array_equal(points, expected_points)
+
+
+def test_an_open_goal_cell_is_always_the_first_candidate() -> None:
+    # The search skips the candidate list when the goal's cell is open (it comes first).
+    rng = np.random.default_rng(12)
+    checked = 0
+    for case in range(200):
+        costmap = Costmap2D(int(rng.integers(5, 40)), int(rng.integers(5, 40)), 0.05, (0.0, 0.0))
+        costmap.data[:] = rng.choice([0, 10, 200, 253, 254, 255], size=costmap.data.shape)
+        x_min, y_min, x_max, y_max = costmap.bounds
+        goal = Pose2D(x=float(rng.uniform(x_min, x_max)), y=float(rng.uniform(y_min, y_max)))
+        tolerance = float(rng.choice([0.0, 0.2, 0.5, 1.3]))
+        planner = GlobalPlanner(PlannerParams(tolerance=tolerance, allow_unknown=case % 2 == 0))
+        gx, gy = costmap.world_to_map(goal.x, goal.y) or (0, 0)
+        if planner.weights[costmap.data[gy, gx]] == 0:
+            continue
+        checked += 1
+        candidates = reference_goal_candidates(planner, costmap.data, costmap, goal)
+        assert tuple(candidates[0]) == (gx, gy)
+    assert checked > 50
+
+
+def old_path_of(planner: GlobalPlanner, start: Pose2D, goal: Pose2D, costmap: Costmap2D) -> Path:
+    """The planned path as it was put together before: a Path of the raw points, smoothed as
+    a Path, then oriented again."""
+    raw = planner.search(start, goal, costmap)
+    path = Path.from_points(raw.points, goal.yaw)
+    path = planner.smoother.smooth(path, costmap).path
+    if planner.params.use_final_approach_orientation and len(path) > 1:
+        path = Path(np.column_stack([path.xy, np.r_[path.yaws[:-1], path.yaws[-2]]]))
+    return path
+
+
+@pytest.mark.parametrize("final_approach", [False, True])
+def test_planned_paths_are_the_paths_put_together_as_before(final_approach: bool) -> None:
+    rng = np.random.default_rng(13)
+    params = PlannerParams(use_final_approach_orientation=final_approach)
+    planner = GlobalPlanner(params)
+    for _ in range(40):
+        costmap = Costmap2D(60, 50, 0.05, (-1.5, -1.25))
+        costmap.data[:] = np.where(rng.random((50, 60)) < 0.04, 254, 0).astype(np.uint8)
+        free = np.argwhere(costmap.data == 0)
+        (sr, sc), (gr, gc) = free[rng.integers(len(free), size=2)]
+        sx, sy = costmap.map_to_world(sc + rng.uniform(-0.4, 0.4), sr + rng.uniform(-0.4, 0.4))
+        gx, gy = costmap.map_to_world(gc, gr)
+        start, goal = Pose2D(x=sx, y=sy), Pose2D(x=gx, y=gy, yaw=float(rng.uniform(-3, 3)))
+        try:
+            path = planner.create_plan(start, goal, costmap)
+        except NavigationError:
+            continue
+        expected = old_path_of(planner, start, goal, costmap)
+        assert np.array_equal(path.poses, expected.poses)
+        assert not path.poses.flags.writeable
+
+
+def test_a_replaced_smoother_is_packed_again() -> None:
+    costmap = Costmap2D(60, 60, 0.05, (-1.5, -1.5))
+    costmap.data[20:40, 28:32] = 254
+    start, goal = Pose2D(x=-1.0, y=0.0), Pose2D(x=1.0, y=0.1, yaw=0.5)
+    planner = GlobalPlanner()
+    first = planner.create_plan(start, goal, costmap)
+    planner.smoother = SimpleSmoother(w_smooth=0.1, do_refinement=False)
+    second = planner.create_plan(start, goal, costmap)
+    expected = GlobalPlanner(smoother=SimpleSmoother(w_smooth=0.1, do_refinement=False))
+    assert not np.array_equal(first.poses, second.poses)
+    assert np.array_equal(second.poses, expected.create_plan(start, goal, costmap).poses)
+
+
+def test_paths_from_points_are_read_only_copies_and_refuse_non_finite_points() -> None:
+    points = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 2.0)])
+    path = Path.from_points(points, 0.25)
+    step = np.diff(points, axis=0)
+    expected = np.column_stack([points, np.r_[np.arctan2(step[:, 1], step[:, 0]), 0.25]])
+    assert np.array_equal(path.poses, Path(expected).poses)
+    points[1, 0] = 5.0
+    assert path.poses[1, 0] == 1.0
+    with pytest.raises(ValueError):
+        path.poses[0, 0] = 1.0
+    with pytest.raises(ValueError, match="finite"):
+        Path.from_points(np.array([(0.0, 0.0), (np.nan, 1.0)]), 0.0)
+    with pytest.raises(ValueError, match="finite"):
+        Path.from_points(np.array([(0.0, 0.0), (1.0, 1.0)]), math.inf)
