@@ -35,10 +35,9 @@ from baobab.nav.window_kernels import (
     Layers,
     Scratch,
     base_change_bounds,
-    dropped_base_bounds,
     refresh_window,
     refresh_window_static,
-    shift_grid,
+    roll_window,
 )
 from baobab.robots.catalog import default_mobile_robot
 from baobab.robots.footprint import Footprint
@@ -204,9 +203,10 @@ class LayeredCostmap:
             return
         if abs(dix) >= size_x or abs(diy) >= size_y:
             self._changed, self._stale = [], [(0, 0, size_x, size_y)]
+            self.obstacle_layer.shift(dix, diy)
         else:
             self._shift_master(dix, diy)
-        self.obstacle_layer.shift(dix, diy)
+            self.obstacle_layer.moved(dix, diy)
         self._ix0, self._iy0 = ix0, iy0
         self._master.origin_x = self.obstacle_layer.grid.origin_x
         self._master.origin_y = self.obstacle_layer.grid.origin_y
@@ -224,10 +224,16 @@ class LayeredCostmap:
             self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
 
     def _window(self) -> np.ndarray:
-        """The window's placement and layers as the kernels' :data:`WINDOW` record (built
-        again when the window moved; read only)."""
+        """The window's placement and layers as the kernels' :data:`WINDOW` record (its
+        placement updated in place when the window moved; read only, and only for the call
+        at hand)."""
         if self._window_key != (self._ix0, self._iy0):
             params, resolution = self.params, self.resolution
+            if self._window_key is not None:  # moved: the settings stay
+                self._window_key = (self._ix0, self._iy0)
+                placement = self._window_record[0]
+                placement["raster_x0"], placement["raster_y0"] = self._ix0, self._iy0
+                return self._window_record
             self._window_key = (self._ix0, self._iy0)
             self._window_record = record(
                 WINDOW,
@@ -294,7 +300,8 @@ class LayeredCostmap:
         self._changed, self._stale = [], [(0, 0, self._master.size_x, self._master.size_y)]
 
     def _shift_master(self, dix: int, diy: int) -> None:
-        """Move the master by whole cells, keeping what stays valid, before the obstacles move.
+        """Move the master and the obstacle cells by whole cells (one compiled call), keeping
+        what stays valid.
 
         A kept cell keeps its value: its static and obstacle neighbours move with it, except
         obstacles that leave the window (recorded as changed cells, outside the new window) and
@@ -303,12 +310,9 @@ class LayeredCostmap:
         size_x, size_y = self._master.size_x, self._master.size_y
         grid, raster = self.obstacle_layer.grid.data, self.static_layer.raster
         window = self._window()
-        if self.params.use_obstacle_layer and dropped_base_bounds(
-            grid, raster, window, dix, diy, self._bounds
-        ):
+        if roll_window(self._master.data, grid, raster, window, (dix, diy), self._bounds):
             b = self._bounds
             self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
-        shift_grid(self._master.data, dix, diy, FREE_SPACE)
         if self._changed:
             self._changed = [(a - dix, b - diy, c - dix, d - diy) for a, b, c, d in self._changed]
         if self._stale:

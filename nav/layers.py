@@ -17,6 +17,7 @@ import numpy as np
 
 from baobab.nav.costmap import (
     FREE_SPACE,
+    GRID,
     INSCRIBED_INFLATED_OBSTACLE,
     LETHAL_OBSTACLE,
     MAX_NON_OBSTACLE,
@@ -257,6 +258,18 @@ class ObstacleLayer:
             bounds=np.zeros(4, dtype=np.int64),
         )
         self._changed_count = 0
+        self._geometry_record = np.zeros(1, dtype=GRID)
+        self._geometry_key: tuple[float, float, float, float] | None = None
+
+    def _geometry(self) -> np.ndarray:
+        """The grid's :data:`~baobab.nav.costmap.GRID` record, refilled in place when the grid
+        moved (a rolling window moves at every update; read only, for the call at hand)."""
+        grid = self.grid
+        key = (grid.origin_x, grid.origin_y, grid.resolution, grid.inscribed_radius)
+        if key != self._geometry_key:
+            self._geometry_record[0] = key
+            self._geometry_key = key
+        return self._geometry_record
 
     @property
     def last_changes(self) -> tuple[np.ndarray, np.ndarray]:
@@ -272,6 +285,11 @@ class ObstacleLayer:
     def shift(self, dix: int, diy: int) -> None:
         """Move the grid by whole cells (rolling window); cells entering the window are free."""
         shift_grid(self.grid.data, dix, diy, FREE_SPACE)
+        self.moved(dix, diy)
+
+    def moved(self, dix: int, diy: int) -> None:
+        """Move the grid's origin by whole cells after its cells were moved so (as
+        :func:`~baobab.nav.window_kernels.roll_window` moves them with the master's)."""
         self.grid.origin_x += dix * self.grid.resolution
         self.grid.origin_y += diy * self.grid.resolution
         self._changed_count = 0
@@ -288,7 +306,9 @@ class ObstacleLayer:
         if ranges.size == 0:
             return None
         grid = self.grid
-        count = trace_scan(grid.data, grid.pack(), scan.pack(), ranges, self._ranges, self._tracer)
+        count = trace_scan(
+            grid.data, self._geometry(), scan.pack(), ranges, self._ranges, self._tracer
+        )
         self._changed_count = count
         if count == 0:
             return None
