@@ -69,8 +69,11 @@ def _flat_line(record: dict[str, Any]) -> str | None:
     for key, value in record.items():
         kind = type(value)
         if kind is float:
-            number = _json_float(value, DECIMALS)
-            text = float.__repr__(number) if type(number) is float else f'"{number}"'
+            if _isfinite(value):  # as _json_float, inline: most values are finite floats
+                rounded = round(value, DECIMALS)
+                text = float.__repr__(rounded) if rounded else "0.0"
+            else:
+                text = f'"{_json_float(value, DECIMALS)}"'
         elif kind is str:
             text = _encode_string(value)
         elif kind is int:
@@ -81,12 +84,28 @@ def _flat_line(record: dict[str, Any]) -> str | None:
             text = "null"
         else:
             return None
-        parts.append(f"{_encode_string(key)}:{text}")
+        prefix = _KEY_PREFIXES.get(key)
+        if prefix is None:
+            prefix = _key_prefix(key)
+        parts.append(prefix + text)
     return "{" + ",".join(parts) + "}"
 
 
 _encode_string: Callable[[str], str] = json.encoder.encode_basestring
 """JSON's own string encoder for ``ensure_ascii=False`` (quotes and escapes)."""
+_isfinite = math.isfinite
+
+_KEY_PREFIXES: dict[str, str] = {}
+"""``"key":`` of the record keys seen so far (a few dozen field names)."""
+_MAX_KEY_PREFIXES = 1024
+
+
+def _key_prefix(key: str) -> str:
+    """``key`` as JSON followed by a colon, remembered while there are few keys."""
+    prefix = _encode_string(key) + ":"
+    if len(_KEY_PREFIXES) < _MAX_KEY_PREFIXES:
+        _KEY_PREFIXES[key] = prefix
+    return prefix
 
 
 class Trace:
