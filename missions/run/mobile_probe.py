@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from array import array
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 from baobab.missions.run.metrics import MetricRegistry
 from baobab.robots.diff_drive.base import DiffDriveBase
@@ -164,15 +164,13 @@ class MobileProbe:
         rows = self._samples.drain()
         if not rows:
             return
-        for now, x, y in rows:
-            if self._xs:
-                self._path_length += math.hypot(x - self._xs[-1], y - self._ys[-1])
-            self._times.append(now)
-            self._xs.append(x)
-            self._ys.append(y)
+        times, xs, ys = zip(*rows, strict=True)
+        self._path_length = _path_length(self._path_length, self._xs, self._ys, xs, ys)
+        self._times.extend(times)
+        self._xs.extend(xs)
+        self._ys.extend(ys)
         radius = self.visit_radius
         entered: list[tuple[float, str]] = []
-        _, xs, ys = zip(*rows, strict=True)
         low_x, high_x, low_y, high_y = min(xs), max(xs), min(ys), max(ys)
         for index, (name, lx, ly) in enumerate(self._locations):
             # Float subtraction is monotonic and hypot(a, b) >= |a|: a location farther than
@@ -196,6 +194,28 @@ class MobileProbe:
         if clearance < self.min_clearance:
             self.min_clearance = clearance
             self.min_clearance_at = (now, float(self._root_qpos[0]), float(self._root_qpos[1]))
+
+
+def _path_length(
+    length: float,
+    old_xs: Sequence[float],
+    old_ys: Sequence[float],
+    xs: Sequence[float],
+    ys: Sequence[float],
+) -> float:
+    """``length`` (m) plus the polyline from the last old point through the new ones, each
+    step added in order (the first point ever starts the line)."""
+    if old_xs:
+        last_x, last_y = old_xs[-1], old_ys[-1]
+        start = 0
+    else:
+        last_x, last_y = xs[0], ys[0]
+        start = 1
+    hypot = math.hypot
+    for x, y in zip(xs[start:], ys[start:], strict=True):
+        length += hypot(x - last_x, y - last_y)
+        last_x, last_y = x, y
+    return length
 
 
 def _pose_dict(pose: tuple[float, float, float]) -> dict[str, float]:
