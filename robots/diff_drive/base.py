@@ -79,7 +79,10 @@ class DiffDriveBase:
         self._rotation_buffer = np.empty(9)
         self._rotation_revision = -1
         self._rotation_list: list[float] = []
-        self._root_quaternion = self._root.qpos[3:7]  # a view: w, x, y, z
+        # Views into MjData, taken once (each read of a named accessor's field makes a view).
+        self._root_position = self._root.qpos[0:2]  # x, y
+        self._root_quaternion = self._root.qpos[3:7]  # w, x, y, z
+        self._root_velocity = self._root.qvel  # linear (world frame), angular (body frame)
         self._pose_revision = -1
         self._velocity_revision = -1
         self._velocity = (0.0, 0.0)
@@ -220,10 +223,8 @@ class DiffDriveBase:
         revision = self._sim.state_revision
         if revision != self._pose_revision:  # several readers per control tick share one
             r = self._rotation()
-            position = self._root.qpos
-            self._pose = Pose2D(
-                x=float(position[0]), y=float(position[1]), yaw=math.atan2(r[3], r[0])
-            )
+            x, y = self._root_position.tolist()
+            self._pose = Pose2D(x=x, y=y, yaw=math.atan2(r[3], r[0]))
             self._pose_revision = revision
         return self._pose
 
@@ -232,7 +233,7 @@ class DiffDriveBase:
         revision = self._sim.state_revision
         if revision != self._velocity_revision:
             r = self._rotation()
-            vx, vy, vz, wx, wy, wz = self._root.qvel.tolist()
+            vx, vy, vz, wx, wy, wz = self._root_velocity.tolist()
             # Free joint: linear velocity in the world frame, angular velocity in the body
             # frame.
             self._velocity = (r[0] * vx + r[3] * vy + r[6] * vz, r[6] * wx + r[7] * wy + r[8] * wz)
