@@ -264,3 +264,20 @@ def test_probe_visits_equal_a_sample_by_sample_check() -> None:
     assert len(probe.times) == 600
     assert len(expected) >= 3
     assert probe.visits == expected
+
+
+def test_probe_path_length_equals_a_sample_by_sample_sum() -> None:
+    """Drained in batches of a second, the path length is the sum of the steps between
+    consecutive samples added in order (the same float, not merely close)."""
+    sim, robot = build_turtlebot3_sim(_arena())
+    probe = MobileProbe(sim, robot.base, {}, visit_radius=0.3)
+    robot.base.command(0.15, 0.5)
+    sim.step_for(3.5)
+    robot.base.command(0.1, -0.8)
+    sim.step_for(2.0)
+    xs, ys = list(probe.xs), list(probe.ys)
+    expected = 0.0
+    for index in range(1, len(xs)):
+        expected += math.hypot(xs[index] - xs[index - 1], ys[index] - ys[index - 1])
+    assert len(xs) == 275
+    assert probe.path_length == expected > 0.5
