@@ -12,13 +12,18 @@ from hypothesis import strategies as st
 
 from baobab.missions.run.trace import Trace, jsonable
 
-_values = st.one_of(
+_scalars = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
     st.floats(min_value=-1e-5, max_value=1e-5),
     st.integers(),
     st.text(),
     st.booleans(),
     st.none(),
+)
+_values = st.one_of(
+    _scalars,
+    st.dictionaries(st.text(), _scalars, max_size=4),  # a feedback record's scalars
+    st.dictionaries(st.text(), st.dictionaries(st.text(), _scalars, max_size=2), max_size=2),
 )
 
 
@@ -50,3 +55,14 @@ def test_records_with_other_values_still_go_through_jsonable() -> None:
     trace = Trace()
     trace.add(1.0, "event", mode=_Mode.FAST, xy=np.array([0.1234567, math.inf]), n=np.int64(3))
     assert trace.lines == ['{"t":1.0,"type":"event","mode":"fast","xy":[0.123457,"inf"],"n":3}']
+
+
+def test_feedback_records_are_written_directly_as_json_dumps_writes_them() -> None:
+    trace = Trace()
+    feedback = {"distance_remaining": 1.23456789, "recoveries": 0, "note": "é\n", "done": False}
+    trace.add(2.5, "feedback", node="go", feedback=feedback)
+    trace.add(2.5, "feedback", node="go", feedback={1: 2.0}, other={"x": np.float64(0.5)})
+    assert trace.lines == [
+        _reference({"t": 2.5, "type": "feedback", "node": "go", "feedback": feedback}),
+        '{"t":2.5,"type":"feedback","node":"go","feedback":{"1":2.0},"other":{"x":0.5}}',
+    ]

@@ -63,7 +63,8 @@ def _json_float(number: float, decimals: int | None) -> float | str:
 
 def _flat_line(record: dict[str, Any]) -> str | None:
     """The JSON line of ``record`` when its values are all plain floats, ints, strings, bools
-    or None (most records: poses, statuses), written directly; else None. The text is what
+    or None, or dicts of those under string keys (most records: poses, statuses, feedback),
+    written directly; else None. The text is what
     ``json.dumps(jsonable(record), separators=(",", ":"), ensure_ascii=False)`` writes."""
     parts = []
     for key, value in record.items():
@@ -82,6 +83,11 @@ def _flat_line(record: dict[str, Any]) -> str | None:
             text = "true" if value else "false"
         elif value is None:
             text = "null"
+        elif kind is dict and all(type(inner) is str for inner in value):
+            nested = _flat_line(value)
+            if nested is None:
+                return None
+            text = nested
         else:
             return None
         prefix = _KEY_PREFIXES.get(key)
