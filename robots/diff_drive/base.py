@@ -221,7 +221,7 @@ class DiffDriveBase:
         revision = self._sim.state_revision
         if revision != self._pose_revision:  # several readers per control tick share one
             x, y, yaw, _, _ = self._ground_truth(revision)
-            self._pose = Pose2D(x=x, y=y, yaw=yaw)
+            self._pose = Pose2D.from_floats(x, y, yaw)
             self._pose_revision = revision
         return self._pose
 
