@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable
+from typing import Any
 
 import py_trees
 
@@ -25,7 +26,8 @@ RUNNING, SUCCESS, FAILURE, INVALID = Status.RUNNING, Status.SUCCESS, Status.FAIL
 _STATUSES = tuple(Status)
 """What ``update`` may return (py_trees checks ``new_status in list(Status)``)."""
 
-Ticker = Callable[[Behaviour], None]
+Ticker = Callable[[Any], None]
+"""Ticks one node of the class it was chosen for."""
 
 
 def tick_once(node: Behaviour) -> None:
@@ -53,7 +55,7 @@ def _tick_leaf(node: Behaviour) -> None:
     _finish(node, node.update())
 
 
-def _tick_decorator(node: Behaviour) -> None:
+def _tick_decorator(node: py_trees.decorators.Decorator) -> None:
     """py_trees' ``Decorator.tick``: the decorated child is ticked before ``update``."""
     if node.status != RUNNING:
         node.initialise()
@@ -62,7 +64,7 @@ def _tick_decorator(node: Behaviour) -> None:
     _finish(node, node.update())
 
 
-def _tick_sequence(node: Behaviour) -> None:
+def _tick_sequence(node: py_trees.composites.Sequence) -> None:
     """py_trees' ``Sequence.tick`` (with or without memory)."""
     children = node.children
     index = 0
@@ -99,7 +101,7 @@ def _tick_sequence(node: Behaviour) -> None:
     node.stop(SUCCESS)
 
 
-def _tick_selector(node: Behaviour) -> None:
+def _tick_selector(node: py_trees.composites.Selector) -> None:
     """py_trees' ``Selector.tick`` (with or without memory)."""
     children = node.children
     if node.status != RUNNING:
@@ -110,6 +112,7 @@ def _tick_selector(node: Behaviour) -> None:
         node.stop(FAILURE)
         return
     if node.memory:
+        assert node.current_child is not None  # set above: the selector has children
         index = children.index(node.current_child)
         for child in itertools.islice(children, None, index):
             if child.status != INVALID:

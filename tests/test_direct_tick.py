@@ -87,8 +87,8 @@ def _tree(rng: random.Random, log: list[str], clock: Clock, depth: int) -> Behav
         return decorators.SuccessIsFailure(name, child)
     if make == "timeout":
         return SimTimeout(name, child, duration=rng.choice([0.1, 0.35]), clock=clock)
-    policy = rng.choice(list(py_trees.common.OneShotPolicy))
-    return decorators.OneShot(name, child, policy=policy)
+    once = rng.choice(list(py_trees.common.OneShotPolicy))
+    return decorators.OneShot(name, child, policy=once)
 
 
 def _run(seed: int, direct: bool) -> list[str]:
