@@ -285,7 +285,9 @@ def test_probe_path_length_equals_a_sample_by_sample_sum() -> None:
 
 
 def test_probe_figures_do_not_depend_on_the_drain_period(monkeypatch: pytest.MonkeyPatch) -> None:
-    def drive(drain_period: float) -> tuple[object, ...]:
+    Figures = tuple[list[float], list[float], list[float], list[tuple[float, str]], float]
+
+    def drive(drain_period: float) -> Figures:
         monkeypatch.setattr(mobile_probe, "DRAIN_PERIOD", drain_period)
         sim, robot = build_turtlebot3_sim(_arena())
         locations = {"a": (0.3, 0.3), "b": (0.0, 0.6), "c": (0.05, 0.0), "d": (2.0, 2.0)}
