@@ -111,32 +111,6 @@ class Pose2D(_Yawed):
     y: Finite
     yaw: Finite = 0.0
 
-    @classmethod
-    def from_floats(cls, x: float, y: float, yaw: float) -> Pose2D:
-        """``Pose2D(x=x, y=y, yaw=yaw)`` for three floats (m, m, rad), without the checks
-        YAML input needs (booleans, ``yaw_deg``) that floats pass anyway: a quarter of the
-        constructor's cost, for poses read from the physics many times a second.
-
-        Raises:
-            ValidationError: a value is not finite (as the constructor does).
-        """
-        if (
-            type(x) is float
-            and type(y) is float
-            and type(yaw) is float
-            and math.isfinite(x)
-            and math.isfinite(y)
-            and math.isfinite(yaw)
-        ):
-            # What pydantic's model_construct sets, for a model with no extra or private fields.
-            pose = cls.__new__(cls)
-            object.__setattr__(pose, "__dict__", {"x": x, "y": y, "yaw": yaw})
-            object.__setattr__(pose, "__pydantic_fields_set__", {"x", "y", "yaw"})
-            object.__setattr__(pose, "__pydantic_extra__", None)
-            object.__setattr__(pose, "__pydantic_private__", None)
-            return pose
-        return cls(x=x, y=y, yaw=yaw)
-
 
 class Floor(_Strict):
     """The floor rectangle: full side lengths ``size`` (m) around ``center`` (m)."""

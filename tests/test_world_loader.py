@@ -3,15 +3,12 @@
 from __future__ import annotations
 
 import math
-import pickle
-import random
 from pathlib import Path
 
 import pytest
-from pydantic import ValidationError
 
 from baobab.sim.errors import BaobabError, WorldError
-from baobab.sim.world import Pose2D, bundled_world_names, load_world
+from baobab.sim.world import bundled_world_names, load_world
 
 # Line numbers matter: the cases below point into this text.
 GOOD = """\
@@ -196,23 +193,3 @@ def test_world_errors_are_baobab_errors(tmp_path: Path) -> None:
 def test_a_path_given_as_text_is_read_as_a_file(tmp_path: Path) -> None:
     path = _write(tmp_path, GOOD)
     assert load_world(str(path)).name == "tiny"
-
-
-def test_a_pose_from_floats_is_the_pose_the_constructor_makes() -> None:
-    """Equal, hashed, printed, dumped, pickled and frozen alike; non-finite values and other
-    types go through the constructor (and fail or convert as it does)."""
-    rng = random.Random(28)
-    for _ in range(200):
-        x, y, yaw = (rng.uniform(-1e3, 1e3) for _ in range(3))
-        fast, made = Pose2D.from_floats(x, y, yaw), Pose2D(x=x, y=y, yaw=yaw)
-        assert type(fast) is Pose2D
-        assert fast == made and hash(fast) == hash(made) and repr(fast) == repr(made)
-        assert fast.__getstate__() == made.__getstate__()
-        assert fast.model_dump() == made.model_dump() and pickle.loads(pickle.dumps(fast)) == made
-        assert fast.model_copy(update={"x": 1.0}) == made.model_copy(update={"x": 1.0})
-    with pytest.raises(ValidationError):
-        fast.x = 0.0
-    for bad in (math.nan, math.inf, -math.inf):
-        with pytest.raises(ValidationError):
-            Pose2D.from_floats(0.0, bad, 0.0)
-    assert Pose2D.from_floats(1, 2, 3) == Pose2D(x=1, y=2, yaw=3)  # ints: the constructor's
