@@ -219,7 +219,9 @@ def _state_from_the_physics(robot: MobileRobot) -> tuple[float, float, float, fl
 
 def _read(robot: MobileRobot) -> tuple[float, float, float, float, float]:
     pose = robot.base.pose()
-    return (pose.x, pose.y, pose.yaw, *robot.base.body_velocity())
+    read = (pose.x, pose.y, pose.yaw, *robot.base.body_velocity())
+    assert robot.base.ground_truth() == read
+    return read
 
 
 def test_pose_and_speed_reads_are_cached_until_the_state_changes() -> None:

@@ -308,10 +308,8 @@ class MobileRig:
 
     def state(self) -> dict[str, Any]:
         """Ground-truth pose (m, rad) and body velocity (m/s, rad/s)."""
-        base = self.robot.base
-        pose = base.pose()
-        linear, angular = base.body_velocity()
-        return {"x": pose.x, "y": pose.y, "yaw": pose.yaw, "v": linear, "w": angular}
+        x, y, yaw, linear, angular = self.robot.base.ground_truth()
+        return {"x": x, "y": y, "yaw": yaw, "v": linear, "w": angular}
 
     def stop(self) -> None:
         """Command zero velocity."""

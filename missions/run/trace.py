@@ -128,8 +128,7 @@ class Trace:
         if line is None:
             line = json.dumps(jsonable(record), separators=(",", ":"), ensure_ascii=False)
         self.lines.append(line)
-        self._hash.update(line.encode("utf-8"))
-        self._hash.update(b"\n")
+        self._hash.update((line + "\n").encode("utf-8"))
 
     @property
     def digest(self) -> str:

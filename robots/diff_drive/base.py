@@ -220,6 +220,11 @@ class DiffDriveBase:
             self._truth_revision = revision
         return self._truth
 
+    def ground_truth(self) -> GroundTruth:
+        """Ground-truth ``(x, y, yaw, forward speed, yaw rate)`` of ``base_link`` in the map
+        frame (m, m, rad, m/s, rad/s): :meth:`pose` and :meth:`body_velocity` in one tuple."""
+        return self._ground_truth(self._sim.state_revision)
+
     def pose(self) -> Pose2D:
         """Ground-truth pose of ``base_link`` in the map frame (m, rad)."""
         revision = self._sim.state_revision
