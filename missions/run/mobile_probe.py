@@ -192,7 +192,8 @@ class MobileProbe:
         self._visits.extend(entered)
 
     def _sample_clearance(self, now: float) -> None:
-        clearance = self.base.min_clearance(CLEARANCE_RANGE)
+        # Only a clearance below the least so far counts: nearer obstacles alone are measured.
+        clearance = self.base.min_clearance(CLEARANCE_RANGE, below=self.min_clearance)
         if clearance < self.min_clearance:
             self.min_clearance = clearance
             self.min_clearance_at = (now, float(self._root_qpos[0]), float(self._root_qpos[1]))

@@ -272,15 +272,16 @@ class DiffDriveBase:
         other = other[~self._is_floor_geom[other] & ~is_robot[other]]
         return sorted({model.geom(int(geom)).name for geom in other})
 
-    def min_clearance(self, max_distance: float = 2.0) -> float:
+    def min_clearance(self, max_distance: float = 2.0, *, below: float = math.inf) -> float:
         """Distance (m) from the footprint to the nearest obstacle geom.
 
         Obstacles are the static and movable geoms; the footprint is the upright cylinder of
         the footprint's radius around ``base_link``, or the prism of its polygon. Negative when
         an obstacle reaches inside the footprint; ``inf`` when nothing is within
-        ``max_distance``.
+        ``max_distance``, or nothing nearer than ``below`` (m; obstacles that cannot be are
+        not measured).
         """
-        return self._clearance_bounds.min_clearance(max_distance)
+        return self._clearance_bounds.min_clearance(max_distance, below=below)
 
     # -- the metrics probe --------------------------------------------------------------------
 
