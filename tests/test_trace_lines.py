@@ -10,7 +10,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from baobab.missions.run.trace import Trace, jsonable
+from baobab.missions.run.trace import DECIMALS, Trace, _float_text, jsonable
 
 _scalars = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
@@ -66,3 +66,18 @@ def test_feedback_records_are_written_directly_as_json_dumps_writes_them() -> No
         _reference({"t": 2.5, "type": "feedback", "node": "go", "feedback": feedback}),
         '{"t":2.5,"type":"feedback","node":"go","feedback":{"1":2.0},"other":{"x":0.5}}',
     ]
+
+
+@settings(max_examples=3000, deadline=None)
+@given(
+    number=st.one_of(
+        st.floats(min_value=-2e9, max_value=2e9),
+        st.floats(min_value=1e9, max_value=1e12),  # past the 15 digits the fast text needs
+        st.floats(min_value=-2e-4, max_value=2e-4),
+        st.sampled_from([1e-4, -1e-4, 9.9999995e-5, 1e9, 999999999.9999996, 1 / 128, 2.5, 3.0]),
+        st.integers(-(10**9), 10**9).map(lambda n: n / 128),  # exact ties at the 7th decimal
+    )
+)
+def test_float_texts_are_repr_of_the_rounded_float(number: float) -> None:
+    rounded = round(number, DECIMALS)
+    assert _float_text(number) == (repr(rounded) if rounded else "0.0")

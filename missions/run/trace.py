@@ -70,11 +70,7 @@ def _flat_line(record: dict[str, Any]) -> str | None:
     for key, value in record.items():
         kind = type(value)
         if kind is float:
-            if _isfinite(value):  # as _json_float, inline: most values are finite floats
-                rounded = round(value, DECIMALS)
-                text = float.__repr__(rounded) if rounded else "0.0"
-            else:
-                text = f'"{_json_float(value, DECIMALS)}"'
+            text = _float_text(value)
         elif kind is str:
             text = _encode_string(value)
         elif kind is int:
@@ -96,6 +92,30 @@ def _flat_line(record: dict[str, Any]) -> str | None:
         parts.append(prefix + text)
     return "{" + ",".join(parts) + "}"
 
+
+def _float_text(number: float) -> str:
+    """``number`` as :func:`_json_float` and JSON write it: ``repr(round(number, DECIMALS))``,
+    no ``-0.0``, non-finite ones as strings.
+
+    Where ``repr`` writes no exponent and the rounded value has at most 15 significant digits
+    (``FIXED_RANGE``), that text is the ``%.6f`` text without its trailing zeros, which is
+    cheaper: ``round`` converts exactly that decimal (``dtoa`` mode 3) back to a float, and a
+    decimal of 15 digits or fewer is the shortest text of the float it converts to, the one
+    ``repr`` writes (``tests/test_trace_lines.py`` compares the two).
+    """
+    if FIXED_RANGE[0] <= abs(number) < FIXED_RANGE[1]:
+        text = (_FIXED % number).rstrip("0")
+        return text + "0" if text[-1] == "." else text
+    if not _isfinite(number):
+        return f'"{_json_float(number, DECIMALS)}"'
+    rounded = round(number, DECIMALS)
+    return float.__repr__(rounded) if rounded else "0.0"
+
+
+FIXED_RANGE = (1e-4, 10.0 ** (15 - DECIMALS))
+"""Magnitudes whose rounded text :func:`_float_text` takes from ``%.6f``: from repr's
+smallest without an exponent to the largest with 15 significant digits at :data:`DECIMALS`."""
+_FIXED = f"%.{DECIMALS}f"
 
 _encode_string: Callable[[str], str] = json.encoder.encode_basestring
 """JSON's own string encoder for ``ensure_ascii=False`` (quotes and escapes)."""
