@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import enum
+import hashlib
 import json
 import math
 
@@ -81,3 +82,13 @@ def test_feedback_records_are_written_directly_as_json_dumps_writes_them() -> No
 def test_float_texts_are_repr_of_the_rounded_float(number: float) -> None:
     rounded = round(number, DECIMALS)
     assert _float_text(number) == (repr(rounded) if rounded else "0.0")
+
+
+def test_the_digest_is_the_hash_of_the_text_whenever_it_is_asked() -> None:
+    trace = Trace()
+    assert trace.digest == hashlib.sha256(b"").hexdigest()
+    for step in range(30):
+        trace.add(0.1 * step, "pose", x=step / 7, note="é")
+        if step % 8 == 0:
+            assert trace.digest == hashlib.sha256(trace.text().encode("utf-8")).hexdigest()
+    assert trace.digest == hashlib.sha256(trace.text().encode("utf-8")).hexdigest()

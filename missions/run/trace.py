@@ -135,11 +135,13 @@ def _key_prefix(key: str) -> str:
 
 
 class Trace:
-    """Collects the trace records in order and hashes them as they come."""
+    """Collects the trace records in order; hashes them, in bulk, when the digest is asked."""
 
     def __init__(self) -> None:
         self.lines: list[str] = []
         self._hash = hashlib.sha256()
+        self._hashed = 0
+        """How many of ``lines`` are in ``_hash``."""
 
     def add(self, time: float, kind: str, /, **fields: Any) -> None:
         """Append the record ``{"t": time, "type": kind, **fields}``."""
@@ -148,11 +150,14 @@ class Trace:
         if line is None:
             line = json.dumps(jsonable(record), separators=(",", ":"), ensure_ascii=False)
         self.lines.append(line)
-        self._hash.update((line + "\n").encode("utf-8"))
 
     @property
     def digest(self) -> str:
         """SHA-256 (hex) of the lines so far, each followed by a newline."""
+        fresh = self.lines[self._hashed :]
+        if fresh:
+            self._hash.update("".join(line + "\n" for line in fresh).encode("utf-8"))
+            self._hashed += len(fresh)
         return self._hash.hexdigest()
 
     def text(self) -> str:
