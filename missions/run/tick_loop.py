@@ -287,18 +287,20 @@ class RunLoop:
             self.trace.add(now, "pose", **self.rig.state())
 
     def _record_tree(self, now: float) -> None:
-        statuses = self._statuses
-        for index, behaviour in enumerate(self._behaviours):
-            status = behaviour.status
-            if statuses[index] is not status:
-                statuses[index] = status
-                self.trace.add(
-                    now,
-                    "status",
-                    node=behaviour.name,
-                    at=self._where(behaviour),
-                    status=status.value,
-                )
+        statuses = [behaviour.status for behaviour in self._behaviours]
+        if statuses != self._statuses:  # a few times a run: walk the nodes for the changes
+            for behaviour, status, before in zip(
+                self._behaviours, statuses, self._statuses, strict=True
+            ):
+                if before is not status:
+                    self.trace.add(
+                        now,
+                        "status",
+                        node=behaviour.name,
+                        at=self._where(behaviour),
+                        status=status.value,
+                    )
+            self._statuses = statuses
         for index, leaf in enumerate(self._goal_leaves):
             previous, recorded = self._handles[index]
             if previous is not None and previous is not leaf.handle and not recorded:
