@@ -144,7 +144,8 @@ class FaultMonitors(DivergenceWatch):
         data = sim.data
         # Views into MjData, taken once: reading them allocates nothing.
         chassis = data.body(robot.names.body)
-        self._position, self._rotation = chassis.xpos, chassis.xmat
+        self._position = chassis.xpos
+        self._rotation_head = chassis.xmat[:4]  # row-major 3x3: R[0,0], R[0,1], R[0,2], R[1,0]
         self._wheel_names = robot.names.wheel_joints
         self._wheels = [  # (commanded, measured) speed of each wheel (rad/s)
             (data.actuator(actuator).ctrl, data.joint(joint).qvel)
@@ -171,7 +172,7 @@ class FaultMonitors(DivergenceWatch):
 
     def _displacement(self, now: float) -> Detection | None:
         x, y, _ = self._position.tolist()
-        r00, _, _, r10 = self._rotation[:4].tolist()  # row-major 3x3: R[0,0] ... R[1,0]
+        r00, _, _, r10 = self._rotation_head.tolist()
         yaw = math.atan2(r10, r00)
         last, self._last_check = self._last_check, (now, x, y, yaw)
         if last is None or now <= last[0]:
