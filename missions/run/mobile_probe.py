@@ -163,10 +163,9 @@ class MobileProbe:
         return self._visits
 
     def _drain(self, _now: float = 0.0) -> None:
-        rows = self._samples.drain()
-        if not rows:
+        times, xs, ys = self._samples.drain_columns()
+        if not times:
             return
-        times, xs, ys = zip(*rows, strict=True)
         self._path_length = _path_length(self._path_length, self._xs, self._ys, xs, ys)
         self._times.extend(times)
         self._xs.extend(xs)
@@ -183,11 +182,13 @@ class MobileProbe:
             if low_y - ly > radius:
                 self._inside[index] = False
                 continue
-            for now, x, y in rows:
+            was_inside = self._inside[index]
+            for now, x, y in zip(times, xs, ys, strict=True):
                 inside = math.hypot(lx - x, ly - y) <= radius
-                if inside and not self._inside[index]:
+                if inside and not was_inside:
                     entered.append((now, name))
-                self._inside[index] = inside
+                was_inside = inside
+            self._inside[index] = was_inside
         entered.sort(key=lambda visit: visit[0])  # stable: same time, location order
         self._visits.extend(entered)
 

@@ -377,12 +377,14 @@ class BaseProbe:
         Raises:
             SimulationError: if samples were lost because the buffer was not drained in time.
         """
+        return list(zip(*self.drain_columns(), strict=True))
+
+    def drain_columns(self) -> tuple[list[float], list[float], list[float]]:
+        """:meth:`drain` as three columns: sim times (s), x (m), y (m)."""
         loop = self._loop
         if loop["pose_overflow"]:
             raise SimulationError("the base's position samples overflowed: drain them in time")
         count = int(loop["pose_count"])
-        rows: list[tuple[float, float, float]] = [
-            (t, x, y) for t, x, y in self._poses[:count].tolist()
-        ]
+        times, xs, ys = self._poses[:count].T.tolist()
         loop["pose_count"] = 0
-        return rows
+        return times, xs, ys
