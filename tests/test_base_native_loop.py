@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from map_files import room_pixels, write_map
 
+from baobab.missions.run import mobile_probe
 from baobab.missions.run.arm_probes import ContactSampler
 from baobab.missions.run.mobile_probe import MobileProbe
 from baobab.robots.diff_drive import MobileRobot
@@ -264,3 +265,38 @@ def test_probe_visits_equal_a_sample_by_sample_check() -> None:
     assert len(probe.times) == 600
     assert len(expected) >= 3
     assert probe.visits == expected
+
+
+def test_probe_path_length_equals_a_sample_by_sample_sum() -> None:
+    """Drained in batches of a second, the path length is the sum of the steps between
+    consecutive samples added in order (the same float, not merely close)."""
+    sim, robot = build_turtlebot3_sim(_arena())
+    probe = MobileProbe(sim, robot.base, {}, visit_radius=0.3)
+    robot.base.command(0.15, 0.5)
+    sim.step_for(3.5)
+    robot.base.command(0.1, -0.8)
+    sim.step_for(2.0)
+    xs, ys = list(probe.xs), list(probe.ys)
+    expected = 0.0
+    for index in range(1, len(xs)):
+        expected += math.hypot(xs[index] - xs[index - 1], ys[index] - ys[index - 1])
+    assert len(xs) == 275
+    assert probe.path_length == expected > 0.5
+
+
+def test_probe_figures_do_not_depend_on_the_drain_period(monkeypatch: pytest.MonkeyPatch) -> None:
+    Figures = tuple[list[float], list[float], list[float], list[tuple[float, str]], float]
+
+    def drive(drain_period: float) -> Figures:
+        monkeypatch.setattr(mobile_probe, "DRAIN_PERIOD", drain_period)
+        sim, robot = build_turtlebot3_sim(_arena())
+        locations = {"a": (0.3, 0.3), "b": (0.0, 0.6), "c": (0.05, 0.0), "d": (2.0, 2.0)}
+        probe = MobileProbe(sim, robot.base, locations, visit_radius=0.3)
+        robot.base.command(0.15, 0.5)
+        sim.step_for(7.3)
+        drained = (list(probe.times), list(probe.xs), list(probe.ys))
+        return (*drained, probe.visits, probe.path_length)
+
+    every_second, every_five = drive(1.0), drive(5.0)
+    assert len(every_second[3]) >= 3  # visits
+    assert every_second == every_five

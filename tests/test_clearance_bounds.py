@@ -32,7 +32,7 @@ def test_bounds_hold_and_the_search_equals_the_exhaustive_one(world: str, robot_
     rng = np.random.default_rng(5)
     low = model.stat.center - 0.5 * model.stat.extent
     high = model.stat.center + 0.5 * model.stat.extent
-    in_range = tight = 0
+    in_range = tight = skipped = 0
     for trial in range(150):
         x, y = rng.uniform(low[0], high[0]), rng.uniform(low[1], high[1])
         # Mostly level; every third pose tipped a little, as braking and bumps do.
@@ -63,6 +63,10 @@ def test_bounds_hold_and_the_search_equals_the_exhaustive_one(world: str, robot_
             expected = exhaustive if exhaustive < limit else math.inf
             assert clearance.min_clearance(limit) == expected
             in_range += math.isfinite(expected)
-    assert in_range > 50
+            for below in (0.05, 0.3, 1.0):
+                found = clearance.min_clearance(limit, below=below)
+                assert found == (expected if expected < below else math.inf)
+                skipped += math.isfinite(expected) and expected >= below
+    assert in_range > 50 and skipped > 50
     if robot_name == "turtlebot3":
         assert tight > 100  # the planar bounds are nearly exact for upright shapes

@@ -205,6 +205,47 @@ def test_teleport_places_the_robot_at_rest_and_restarts_odometry() -> None:
     assert math.hypot(still.x - target.x, still.y - target.y) < 1e-3
 
 
+def _state_from_the_physics(robot: MobileRobot) -> tuple[float, float, float, float, float]:
+    """x, y (m), yaw (rad), forward speed (m/s), yaw rate (rad/s), read from MjData now."""
+    root = robot.sim.data.joint(robot.names.root_joint)
+    rotation = np.empty(9)
+    mujoco.mju_quat2Mat(rotation, root.qpos[3:7])
+    r = rotation.tolist()
+    vx, vy, vz, wx, wy, wz = root.qvel.tolist()
+    x, y = root.qpos[:2].tolist()
+    yaw = math.atan2(r[3], r[0])
+    return x, y, yaw, r[0] * vx + r[3] * vy + r[6] * vz, r[6] * wx + r[7] * wy + r[8] * wz
+
+
+def _read(robot: MobileRobot) -> tuple[float, float, float, float, float]:
+    pose = robot.base.pose()
+    read = (pose.x, pose.y, pose.yaw, *robot.base.body_velocity())
+    assert robot.base.ground_truth() == read
+    return read
+
+
+def test_pose_and_speed_reads_are_cached_until_the_state_changes() -> None:
+    """One read per state: a second read returns the same pose; a step, a teleport or an edit
+    followed by ``forward`` gives the new state's figures (the cache never serves stale ones)."""
+    robot = _settled()
+    base, sim = robot.base, robot.sim
+    assert base.pose() is base.pose()
+    base.command(0.2, 0.5)
+    for _ in range(3):
+        before = _read(robot)
+        sim.step_for(0.1)
+        assert _read(robot) == _state_from_the_physics(robot) != before
+    base.teleport(Pose2D(x=-1.0, y=0.5, yaw=2.0))
+    assert _read(robot) == _state_from_the_physics(robot)
+    assert _read(robot)[:3] == pytest.approx((-1.0, 0.5, 2.0), abs=1e-9)
+    root = sim.data.joint(robot.names.root_joint)
+    root.qpos[0] += 0.25
+    root.qvel[0] = 0.1
+    sim.forward()
+    assert _read(robot) == _state_from_the_physics(robot)
+    assert _read(robot)[0] == pytest.approx(-0.75, abs=1e-9)
+
+
 def test_start_defaults_to_the_world_spawn() -> None:
     world = load_world("walls")
     _, robot = build_turtlebot3_sim(world)

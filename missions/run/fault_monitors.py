@@ -144,10 +144,15 @@ class FaultMonitors(DivergenceWatch):
         data = sim.data
         # Views into MjData, taken once: reading them allocates nothing.
         chassis = data.body(robot.names.body)
-        self._position, self._rotation = chassis.xpos, chassis.xmat
+        self._position = chassis.xpos
+        self._rotation_head = chassis.xmat[:4]  # row-major 3x3: R[0,0], R[0,1], R[0,2], R[1,0]
         self._wheel_names = robot.names.wheel_joints
-        self._measured = [data.joint(name).qvel for name in robot.names.wheel_joints]
-        self._commanded = [data.actuator(name).ctrl for name in robot.names.wheel_actuators]
+        self._wheels = [  # (commanded, measured) speed of each wheel (rad/s)
+            (data.actuator(actuator).ctrl, data.joint(joint).qvel)
+            for actuator, joint in zip(
+                robot.names.wheel_actuators, robot.names.wheel_joints, strict=True
+            )
+        ]
         self._last_check: tuple[float, float, float, float] | None = None  # t, x, y, yaw
         self._last_scan_stamp = -math.inf
         self._degraded_since: float | None = None
@@ -166,8 +171,9 @@ class FaultMonitors(DivergenceWatch):
     # -- the monitors --------------------------------------------------------------------------
 
     def _displacement(self, now: float) -> Detection | None:
-        x, y = float(self._position[0]), float(self._position[1])
-        yaw = math.atan2(self._rotation[3], self._rotation[0])  # row-major 3x3: R[1,0], R[0,0]
+        x, y, _ = self._position.tolist()
+        r00, _, _, r10 = self._rotation_head.tolist()
+        yaw = math.atan2(r10, r00)
         last, self._last_check = self._last_check, (now, x, y, yaw)
         if last is None or now <= last[0]:
             return None
@@ -231,9 +237,9 @@ class FaultMonitors(DivergenceWatch):
 
     def _wheel_speeds(self, now: float) -> Detection | None:
         p = self.params
-        for index in range(2):
-            commanded = float(self._commanded[index][0])
-            measured = float(self._measured[index][0])
+        for index, (commanded_view, measured_view) in enumerate(self._wheels):
+            (commanded,) = commanded_view.tolist()
+            (measured,) = measured_view.tolist()
             limit = max(p.wheel_mismatch, p.wheel_mismatch_ratio * abs(commanded))
             if abs(measured - commanded) <= limit or self.base.robot_contacts():
                 self._mismatch_since[index] = None

@@ -201,6 +201,7 @@ class MobileRig:
         self.navigation: NavigationServer | None = None
         self.world_servers: WorldServers | None = None
         self.planned_paths: list[np.ndarray] = []
+        self._sampled_path: object = None
         self.clear_counter: ClearCountingPort | None = None
         port: NavigationPort | None = None
         sim = self.sim
@@ -297,6 +298,9 @@ class MobileRig:
         path = None if self.navigation is None else self.navigation.current_path
         if path is None or len(self.planned_paths) >= MAX_PLOTTED_PATHS:
             return
+        if path is self._sampled_path:  # a Path never changes: the same one needs no comparison
+            return
+        self._sampled_path = path
         xy = np.asarray(path.xy, dtype=float)
         last = self.planned_paths[-1] if self.planned_paths else None
         if last is None or last.shape != xy.shape or not np.array_equal(last, xy):
@@ -304,10 +308,8 @@ class MobileRig:
 
     def state(self) -> dict[str, Any]:
         """Ground-truth pose (m, rad) and body velocity (m/s, rad/s)."""
-        base = self.robot.base
-        pose = base.pose()
-        linear, angular = base.body_velocity()
-        return {"x": pose.x, "y": pose.y, "yaw": pose.yaw, "v": linear, "w": angular}
+        x, y, yaw, linear, angular = self.robot.base.ground_truth()
+        return {"x": x, "y": y, "yaw": yaw, "v": linear, "w": angular}
 
     def stop(self) -> None:
         """Command zero velocity."""

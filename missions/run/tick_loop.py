@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import math
 import time
-import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -24,6 +23,7 @@ from typing import Any, Protocol
 import py_trees
 
 from baobab.behaviours.actions import GoalTaskLeaf
+from baobab.behaviours.direct_tick import tick_once
 from baobab.missions.language.compiler import CompiledMission
 from baobab.missions.language.error_codes import MissionErrorCode
 from baobab.missions.run.events import TimedEvents
@@ -134,9 +134,10 @@ class RunLoop:
         self._statuses = [Status.INVALID] * len(self._behaviours)
         """The status each of ``_behaviours`` had at the last record (same order)."""
         self._goal_leaves = compiled.goal_leaves()
-        self._handles: dict[uuid.UUID, tuple[TaskHandle | None, bool]] = {
-            leaf.id: (None, False) for leaf in self._goal_leaves
-        }
+        self._handles: list[tuple[TaskHandle | None, bool]] = [(None, False)] * len(
+            self._goal_leaves
+        )
+        """Each goal leaf's latest handle and whether its outcome is recorded (same order)."""
         self._last_feedback = -math.inf
         self._last_state = -math.inf
         self._wall_start = time.perf_counter()
@@ -187,13 +188,14 @@ class RunLoop:
 
         ``BehaviourTree.tick`` walks every node after the tick to offer it to visitors; with
         no visitors or handlers (a compiled mission has none) ticking the root is the same
-        tick without that walk.
+        tick without that walk, and :func:`~baobab.behaviours.direct_tick.tick_once` does it
+        by plain calls rather than py_trees' generators.
         """
         tree = self.compiled.tree
         if tree.visitors or tree.pre_tick_handlers or tree.post_tick_handlers:
             tree.tick()
             return
-        tree.root.tick_once()
+        tick_once(tree.root)
         tree.count += 1
 
     def _advance_to(self, target_step: int) -> bool:
@@ -285,20 +287,22 @@ class RunLoop:
             self.trace.add(now, "pose", **self.rig.state())
 
     def _record_tree(self, now: float) -> None:
-        statuses = self._statuses
-        for index, behaviour in enumerate(self._behaviours):
-            status = behaviour.status
-            if statuses[index] is not status:
-                statuses[index] = status
-                self.trace.add(
-                    now,
-                    "status",
-                    node=behaviour.name,
-                    at=self._where(behaviour),
-                    status=status.value,
-                )
-        for leaf in self._goal_leaves:
-            previous, recorded = self._handles[leaf.id]
+        statuses = [behaviour.status for behaviour in self._behaviours]
+        if statuses != self._statuses:  # a few times a run: walk the nodes for the changes
+            for behaviour, status, before in zip(
+                self._behaviours, statuses, self._statuses, strict=True
+            ):
+                if before is not status:
+                    self.trace.add(
+                        now,
+                        "status",
+                        node=behaviour.name,
+                        at=self._where(behaviour),
+                        status=status.value,
+                    )
+            self._statuses = statuses
+        for index, leaf in enumerate(self._goal_leaves):
+            previous, recorded = self._handles[index]
             if previous is not None and previous is not leaf.handle and not recorded:
                 self._record_outcome(now, leaf, previous)
                 recorded = True
@@ -307,7 +311,7 @@ class RunLoop:
             if previous is not None and previous.outcome is not None and not recorded:
                 self._record_outcome(now, leaf, previous)
                 recorded = True
-            self._handles[leaf.id] = (previous, recorded)
+            self._handles[index] = (previous, recorded)
         if now - self._last_feedback >= FEEDBACK_PERIOD - 1e-9:
             self._last_feedback = now
             for leaf in self._goal_leaves:

@@ -63,14 +63,14 @@ def _json_float(number: float, decimals: int | None) -> float | str:
 
 def _flat_line(record: dict[str, Any]) -> str | None:
     """The JSON line of ``record`` when its values are all plain floats, ints, strings, bools
-    or None (most records: poses, statuses), written directly; else None. The text is what
+    or None, or dicts of those under string keys (most records: poses, statuses, feedback),
+    written directly; else None. The text is what
     ``json.dumps(jsonable(record), separators=(",", ":"), ensure_ascii=False)`` writes."""
     parts = []
     for key, value in record.items():
         kind = type(value)
         if kind is float:
-            number = _json_float(value, DECIMALS)
-            text = float.__repr__(number) if type(number) is float else f'"{number}"'
+            text = _float_text(value)
         elif kind is str:
             text = _encode_string(value)
         elif kind is int:
@@ -79,22 +79,69 @@ def _flat_line(record: dict[str, Any]) -> str | None:
             text = "true" if value else "false"
         elif value is None:
             text = "null"
+        elif kind is dict and all(type(inner) is str for inner in value):
+            nested = _flat_line(value)
+            if nested is None:
+                return None
+            text = nested
         else:
             return None
-        parts.append(f"{_encode_string(key)}:{text}")
+        prefix = _KEY_PREFIXES.get(key)
+        if prefix is None:
+            prefix = _key_prefix(key)
+        parts.append(prefix + text)
     return "{" + ",".join(parts) + "}"
 
 
+def _float_text(number: float) -> str:
+    """``number`` as :func:`_json_float` and JSON write it: ``repr(round(number, DECIMALS))``,
+    no ``-0.0``, non-finite ones as strings.
+
+    Where ``repr`` writes no exponent and the rounded value has at most 15 significant digits
+    (``FIXED_RANGE``), that text is the ``%.6f`` text without its trailing zeros, which is
+    cheaper: ``round`` converts exactly that decimal (``dtoa`` mode 3) back to a float, and a
+    decimal of 15 digits or fewer is the shortest text of the float it converts to, the one
+    ``repr`` writes (``tests/test_trace_lines.py`` compares the two).
+    """
+    if FIXED_RANGE[0] <= abs(number) < FIXED_RANGE[1]:
+        text = (_FIXED % number).rstrip("0")
+        return text + "0" if text[-1] == "." else text
+    if not _isfinite(number):
+        return f'"{_json_float(number, DECIMALS)}"'
+    rounded = round(number, DECIMALS)
+    return float.__repr__(rounded) if rounded else "0.0"
+
+
+FIXED_RANGE = (1e-4, 10.0 ** (15 - DECIMALS))
+"""Magnitudes whose rounded text :func:`_float_text` takes from ``%.6f``: from repr's
+smallest without an exponent to the largest with 15 significant digits at :data:`DECIMALS`."""
+_FIXED = f"%.{DECIMALS}f"
+
 _encode_string: Callable[[str], str] = json.encoder.encode_basestring
 """JSON's own string encoder for ``ensure_ascii=False`` (quotes and escapes)."""
+_isfinite = math.isfinite
+
+_KEY_PREFIXES: dict[str, str] = {}
+"""``"key":`` of the record keys seen so far (a few dozen field names)."""
+_MAX_KEY_PREFIXES = 1024
+
+
+def _key_prefix(key: str) -> str:
+    """``key`` as JSON followed by a colon, remembered while there are few keys."""
+    prefix = _encode_string(key) + ":"
+    if len(_KEY_PREFIXES) < _MAX_KEY_PREFIXES:
+        _KEY_PREFIXES[key] = prefix
+    return prefix
 
 
 class Trace:
-    """Collects the trace records in order and hashes them as they come."""
+    """Collects the trace records in order; hashes them, in bulk, when the digest is asked."""
 
     def __init__(self) -> None:
         self.lines: list[str] = []
         self._hash = hashlib.sha256()
+        self._hashed = 0
+        """How many of ``lines`` are in ``_hash``."""
 
     def add(self, time: float, kind: str, /, **fields: Any) -> None:
         """Append the record ``{"t": time, "type": kind, **fields}``."""
@@ -103,12 +150,14 @@ class Trace:
         if line is None:
             line = json.dumps(jsonable(record), separators=(",", ":"), ensure_ascii=False)
         self.lines.append(line)
-        self._hash.update(line.encode("utf-8"))
-        self._hash.update(b"\n")
 
     @property
     def digest(self) -> str:
         """SHA-256 (hex) of the lines so far, each followed by a newline."""
+        fresh = self.lines[self._hashed :]
+        if fresh:
+            self._hash.update("".join(line + "\n" for line in fresh).encode("utf-8"))
+            self._hashed += len(fresh)
         return self._hash.hexdigest()
 
     def text(self) -> str:

@@ -4,8 +4,9 @@
 (:mod:`.base_kernel`). Each tick it moves the commanded body velocity toward the latest
 ``cmd_vel`` no faster than the acceleration limits allow, turns it into wheel angular
 velocities for the velocity actuators, and integrates odometry from the wheel encoder angles.
-Ground truth (``pose``, ``body_velocity``) is read from the physics and kept apart from the
-odometry, which drifts like the real thing would.
+Ground truth (``pose``, ``body_velocity``) is read from the physics, in one compiled call per
+physics state (:mod:`.ground_truth_kernel`), and kept apart from the odometry, which drifts
+like the real thing would.
 """
 
 from __future__ import annotations
@@ -19,6 +20,11 @@ import numpy as np
 from baobab.robots.diff_drive.base_kernel import LOOP_WORDS, WORD, base_loops
 from baobab.robots.diff_drive.clearance_bounds import ClearanceBounds
 from baobab.robots.diff_drive.facts import DiffDriveFacts
+from baobab.robots.diff_drive.ground_truth_kernel import (
+    GroundTruth,
+    ground_truth,
+    ground_truth_pose,
+)
 from baobab.robots.diff_drive.names import OBSTACLE_GROUPS, DiffDriveNames
 from baobab.sim.builder import FLOOR_GROUP, MAP_WALL_MATERIAL
 from baobab.sim.errors import SimulationError
@@ -76,10 +82,10 @@ class DiffDriveBase:
         self._wheels = [data.joint(name) for name in self.names.wheel_joints]
         self._actuators = [data.actuator(name) for name in self.names.wheel_actuators]
         self._wheel_angles = tuple(wheel.qpos for wheel in self._wheels)
-        self._rotation_buffer = np.empty(9)
-        self._rotation_revision = -1
-        self._rotation_list: list[float] = []
-        self._root_quaternion = self._root.qpos[3:7]  # a view: w, x, y, z
+        # The free joint's place in MjData (valid while the MjData lives), for ground_truth.
+        self._root_addresses = (self._root.qpos.ctypes.data, self._root.qvel.ctypes.data)
+        self._truth_revision = -1
+        self._truth: GroundTruth = (0.0, 0.0, 0.0, 0.0, 0.0)
         self._pose_revision = -1
         self._velocity_revision = -1
         self._velocity = (0.0, 0.0)
@@ -206,24 +212,25 @@ class DiffDriveBase:
 
     # -- ground truth -------------------------------------------------------------------------
 
-    def _rotation(self) -> list[float]:
-        """The chassis rotation matrix, row-major, as nine floats (once per state revision)."""
-        revision = self._sim.state_revision
-        if revision != self._rotation_revision:
-            mujoco.mju_quat2Mat(self._rotation_buffer, self._root_quaternion)
-            self._rotation_list = self._rotation_buffer.tolist()
-            self._rotation_revision = revision
-        return self._rotation_list
+    def _ground_truth(self, revision: int) -> GroundTruth:
+        """x, y (m), yaw (rad), forward speed (m/s), yaw rate (rad/s) of the chassis, read
+        from the physics once per state ``revision``."""
+        if revision != self._truth_revision:
+            self._truth = ground_truth(*self._root_addresses)
+            self._truth_revision = revision
+        return self._truth
+
+    def ground_truth(self) -> GroundTruth:
+        """Ground-truth ``(x, y, yaw, forward speed, yaw rate)`` of ``base_link`` in the map
+        frame (m, m, rad, m/s, rad/s): :meth:`pose` and :meth:`body_velocity` in one tuple."""
+        return self._ground_truth(self._sim.state_revision)
 
     def pose(self) -> Pose2D:
         """Ground-truth pose of ``base_link`` in the map frame (m, rad)."""
         revision = self._sim.state_revision
         if revision != self._pose_revision:  # several readers per control tick share one
-            r = self._rotation()
-            position = self._root.qpos
-            self._pose = Pose2D(
-                x=float(position[0]), y=float(position[1]), yaw=math.atan2(r[3], r[0])
-            )
+            x, y, yaw, _, _ = self._ground_truth(revision)
+            self._pose = ground_truth_pose(x, y, yaw)
             self._pose_revision = revision
         return self._pose
 
@@ -231,11 +238,8 @@ class DiffDriveBase:
         """Ground-truth forward speed (m/s) and yaw rate (rad/s)."""
         revision = self._sim.state_revision
         if revision != self._velocity_revision:
-            r = self._rotation()
-            vx, vy, vz, wx, wy, wz = self._root.qvel.tolist()
-            # Free joint: linear velocity in the world frame, angular velocity in the body
-            # frame.
-            self._velocity = (r[0] * vx + r[3] * vy + r[6] * vz, r[6] * wx + r[7] * wy + r[8] * wz)
+            _, _, _, linear, angular = self._ground_truth(revision)
+            self._velocity = (linear, angular)
             self._velocity_revision = revision
         return self._velocity
 
@@ -268,15 +272,16 @@ class DiffDriveBase:
         other = other[~self._is_floor_geom[other] & ~is_robot[other]]
         return sorted({model.geom(int(geom)).name for geom in other})
 
-    def min_clearance(self, max_distance: float = 2.0) -> float:
+    def min_clearance(self, max_distance: float = 2.0, *, below: float = math.inf) -> float:
         """Distance (m) from the footprint to the nearest obstacle geom.
 
         Obstacles are the static and movable geoms; the footprint is the upright cylinder of
         the footprint's radius around ``base_link``, or the prism of its polygon. Negative when
         an obstacle reaches inside the footprint; ``inf`` when nothing is within
-        ``max_distance``.
+        ``max_distance``, or nothing nearer than ``below`` (m; obstacles that cannot be are
+        not measured).
         """
-        return self._clearance_bounds.min_clearance(max_distance)
+        return self._clearance_bounds.min_clearance(max_distance, below=below)
 
     # -- the metrics probe --------------------------------------------------------------------
 
@@ -372,12 +377,14 @@ class BaseProbe:
         Raises:
             SimulationError: if samples were lost because the buffer was not drained in time.
         """
+        return list(zip(*self.drain_columns(), strict=True))
+
+    def drain_columns(self) -> tuple[list[float], list[float], list[float]]:
+        """:meth:`drain` as three columns: sim times (s), x (m), y (m)."""
         loop = self._loop
         if loop["pose_overflow"]:
             raise SimulationError("the base's position samples overflowed: drain them in time")
         count = int(loop["pose_count"])
-        rows: list[tuple[float, float, float]] = [
-            (t, x, y) for t, x, y in self._poses[:count].tolist()
-        ]
+        times, xs, ys = self._poses[:count].T.tolist()
         loop["pose_count"] = 0
-        return rows
+        return times, xs, ys

@@ -95,6 +95,7 @@ def _min_clearance(
     geoms: np.ndarray,
     geom: np.ndarray,
     max_distance: float,
+    below: float,
     bounds: np.ndarray,
 ) -> float:  # pragma: no cover - compiled
     """See :meth:`ClearanceBounds.min_clearance`; ``model``/``data`` are C addresses, ``geom``
@@ -107,12 +108,12 @@ def _min_clearance(
         for k in range(geoms.shape[0]):
             if bounds[k] < lower:
                 pick, lower = k, bounds[k]
-        if pick < 0 or lower >= max_distance or lower >= nearest:
+        if pick < 0 or lower >= max_distance or lower >= nearest or lower >= below:
             break
         bounds[pick] = math.inf
         distance = geom_distance(model, data, footprint, geoms[pick], max_distance, 0)
         nearest = min(nearest, distance)
-    return nearest if nearest < max_distance else math.inf
+    return nearest if nearest < max_distance and nearest < below else math.inf
 
 
 class ClearanceBounds:
@@ -141,12 +142,13 @@ class ClearanceBounds:
         # The views must outlive nothing: keep the structs they point into alive.
         self._model, self._data = model, data
 
-    def min_clearance(self, max_distance: float = 2.0) -> float:
+    def min_clearance(self, max_distance: float = 2.0, *, below: float = math.inf) -> float:
         """Distance (m) from the footprint to the nearest obstacle geom, as
         ``min(mj_geomDistance(footprint, g, max_distance))`` over them all gives it.
 
         Negative when an obstacle reaches inside the footprint; ``inf`` when nothing is
-        within ``max_distance`` (m).
+        within ``max_distance`` (m), or nothing nearer than ``below`` (m): a caller that only
+        wants a clearance below the least so far skips the obstacles that cannot give one.
         """
         model, data = self._addresses
         return float(
@@ -157,6 +159,7 @@ class ClearanceBounds:
                 self._geoms,
                 self._geom,
                 float(max_distance),
+                float(below),
                 self._bounds,
             )
         )
