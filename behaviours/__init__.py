@@ -13,7 +13,8 @@
   :class:`~.poses.MissionScope` they resolve in.
 - The py_trees classes the factories build, imported only when a tree is built (validation
   loads no py_trees): :mod:`.actions`, :mod:`.conditions`, :mod:`.decorators`, :mod:`.timing`,
-  :mod:`.progress`; :mod:`.direct_tick` ticks a tree of them without py_trees' generators.
+  :mod:`.progress` (:mod:`baobab.nav.direct_tick` ticks a tree of them without py_trees'
+  generators).
 
 Adding a node type is one module with its parameter model, factory and ``NODE_TYPES``, listed
 in :data:`.builtin.NODE_MODULES` (see ``docs/architecture.md``).

@@ -15,8 +15,8 @@ on activation; Nav2's reactive sequence and (memoryful) sequence are py_trees' `
 The tree ticks at 20 Hz, so baobab's nodes tick their children by a direct call
 (:meth:`Direct.step`, through :func:`tick_child`) instead of py_trees' nested generators, which
 pass every node of the traversal up through every parent; py_trees' own nodes inside the tree
-(the sequences) still tick through their generators, and :meth:`Direct.tick` is the generator
-form of :meth:`Direct.step` for them and for ``tick_once``.
+(the sequences) tick by :mod:`~baobab.nav.direct_tick`'s plain calls too, and
+:meth:`Direct.tick` is the generator form of :meth:`Direct.step` for a py_trees caller.
 
 BehaviorTree.CPP and py_trees differ in one way that matters here. In BT.CPP a parent *halts*
 only running children and *resets* finished ones; py_trees stops both with ``INVALID``. The
@@ -32,6 +32,8 @@ from typing import ClassVar
 import py_trees
 from py_trees.behaviour import Behaviour
 
+from baobab.nav.direct_tick import tick_once
+
 Status = py_trees.common.Status
 Clock = Callable[[], float]
 """Returns the sim time (s)."""
@@ -42,8 +44,9 @@ class Direct(Behaviour):
     new status; :meth:`tick`, py_trees' generator, runs it and yields the node once."""
 
     ticks_directly: ClassVar[bool] = True
-    """Marks the nodes :func:`tick_child` calls directly (a class attribute is read faster
-    than ``isinstance`` answers for py_trees' abstract base class)."""
+    """Marks the nodes :func:`tick_child` and :mod:`~baobab.nav.direct_tick` call directly (a
+    class attribute is read faster than ``isinstance`` answers for py_trees' abstract base
+    class)."""
 
     def step(self) -> Status:
         """Tick once; the node's new status."""
@@ -57,11 +60,10 @@ class Direct(Behaviour):
 
 def tick_child(child: Behaviour) -> Status:
     """Tick ``child`` once and return its new status: baobab's nodes by :meth:`Direct.step`,
-    py_trees' own through their tick generator."""
+    py_trees' own by :func:`~baobab.nav.direct_tick.tick_once`."""
     if getattr(child, "ticks_directly", False):
         return child.step()  # type: ignore[attr-defined]  # a Direct node
-    for _ in child.tick():
-        pass
+    tick_once(child)
     return child.status
 
 

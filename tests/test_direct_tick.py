@@ -8,7 +8,7 @@ import py_trees
 import pytest
 
 from baobab.behaviours.decorators import SimTimeout
-from baobab.behaviours.direct_tick import tick_once
+from baobab.nav.direct_tick import tick_once
 
 Status = py_trees.common.Status
 Behaviour = py_trees.behaviour.Behaviour

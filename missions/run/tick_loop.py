@@ -23,13 +23,13 @@ from typing import Any, Protocol
 import py_trees
 
 from baobab.behaviours.actions import GoalTaskLeaf
-from baobab.behaviours.direct_tick import tick_once
 from baobab.missions.language.compiler import CompiledMission
 from baobab.missions.language.error_codes import MissionErrorCode
 from baobab.missions.run.events import TimedEvents
 from baobab.missions.run.progress_display import ProgressSink, ProgressSnapshot
 from baobab.missions.run.rig import Rig
 from baobab.missions.run.trace import Trace
+from baobab.nav.direct_tick import tick_once
 from baobab.sim.errors import SimulationError
 from baobab.sim.tasks import TaskHandle, TaskStatus
 
@@ -188,7 +188,7 @@ class RunLoop:
 
         ``BehaviourTree.tick`` walks every node after the tick to offer it to visitors; with
         no visitors or handlers (a compiled mission has none) ticking the root is the same
-        tick without that walk, and :func:`~baobab.behaviours.direct_tick.tick_once` does it
+        tick without that walk, and :func:`~baobab.nav.direct_tick.tick_once` does it
         by plain calls rather than py_trees' generators.
         """
         tree = self.compiled.tree

@@ -1,9 +1,12 @@
 """Tick a py_trees tree once, by direct calls instead of py_trees' chain of generators.
 
 py_trees ticks a tree through generators so that a visitor can see every node as it is
-ticked: each node's ``tick()`` yields itself, and every ancestor passes the yield on. A run
-loop with no visitors (:meth:`~baobab.missions.run.tick_loop.RunLoop._tick_tree`) only wants
-the tick, so :func:`tick_once` walks the same nodes with plain calls. For the node kinds it
+ticked: each node's ``tick()`` yields itself, and every ancestor passes the yield on. A tree
+with no visitors (the mission tree in
+:meth:`~baobab.missions.run.tick_loop.RunLoop._tick_tree`, py_trees' sequences inside the Nav2
+trees through :func:`baobab.nav.bt.tick_child`) only wants the tick, so :func:`tick_once` walks
+the same nodes with plain calls. baobab's own Nav2 nodes (those marked ``ticks_directly``,
+:class:`baobab.nav.bt.Direct`) tick by their ``step()``. For the node kinds it
 knows (a leaf, a decorator, a sequence, a selector, each with py_trees' own ``tick``) it does
 what that ``tick`` does, in the same order: ``initialise``, the children, ``update``,
 ``stop``/``terminate``, the status. py_trees' debug log lines are not written. Any other
@@ -141,6 +144,11 @@ def _tick_selector(node: py_trees.composites.Selector) -> None:
     node.current_child = children[-1] if children else None
 
 
+def _tick_direct(node: Any) -> None:
+    """A :class:`baobab.nav.bt.Direct` node: its ``step()`` is its whole tick."""
+    node.step()
+
+
 def _tick_by_generator(node: Behaviour) -> None:
     """The node's own tick (a parallel, or a node that overrides ``tick``)."""
     for _ in node.tick():
@@ -158,11 +166,14 @@ _TICKERS: dict[type, Ticker] = {}
 
 
 def _ticker(kind: type) -> Ticker:
-    """How nodes of class ``kind`` are ticked: directly when their ``tick`` is one of
-    py_trees' four above, else by their own generator."""
+    """How nodes of class ``kind`` are ticked: by ``step()`` when the class ticks directly,
+    by plain calls when their ``tick`` is one of py_trees' four above, else by their own
+    generator."""
     ticker = _TICKERS.get(kind)
     if ticker is None:
         own = getattr(kind, "tick", None)
         ticker = next((direct for tick, direct in _DIRECT if own is tick), _tick_by_generator)
+        if getattr(kind, "ticks_directly", False):
+            ticker = _tick_direct
         _TICKERS[kind] = ticker
     return ticker
