@@ -23,7 +23,6 @@ from baobab.robots.diff_drive.facts import DiffDriveFacts
 from baobab.robots.diff_drive.ground_truth_kernel import (
     GroundTruth,
     ground_truth,
-    ground_truth_pose,
 )
 from baobab.robots.diff_drive.names import OBSTACLE_GROUPS, DiffDriveNames
 from baobab.sim.builder import FLOOR_GROUP, MAP_WALL_MATERIAL
@@ -230,7 +229,7 @@ class DiffDriveBase:
         revision = self._sim.state_revision
         if revision != self._pose_revision:  # several readers per control tick share one
             x, y, yaw, _, _ = self._ground_truth(revision)
-            self._pose = ground_truth_pose(x, y, yaw)
+            self._pose = Pose2D(x=x, y=y, yaw=yaw)
             self._pose_revision = revision
         return self._pose
 

@@ -21,7 +21,6 @@ import numpy as np
 from numba import types
 
 from baobab.sim.mujoco_native import pointer
-from baobab.sim.world import Pose2D
 
 quat_to_mat = cast(
     Callable[[int, int], None],
@@ -29,8 +28,6 @@ quat_to_mat = cast(
 )
 """``mju_quat2Mat(res, quat)``: the row-major rotation matrix of a quaternion ``w, x, y, z``
 (addresses of float64 arrays)."""
-
-_FIELDS = frozenset(("x", "y", "yaw"))
 
 GroundTruth = tuple[float, float, float, float, float]
 """``(x, y, yaw, forward speed, yaw rate)``: m, m, rad, m/s, rad/s."""
@@ -60,28 +57,3 @@ def ground_truth_reference(qpos: np.ndarray, qvel: np.ndarray) -> GroundTruth:
     # Free joint: linear velocity in the world frame, angular velocity in the body frame.
     forward = r[0] * vx + r[3] * vy + r[6] * vz
     return x, y, math.atan2(r[3], r[0]), forward, r[6] * wx + r[7] * wy + r[8] * wz
-
-
-def ground_truth_pose(x: float, y: float, yaw: float) -> Pose2D:
-    """``Pose2D(x=x, y=y, yaw=yaw)`` for the floats :func:`ground_truth` returns (m, m, rad),
-    made without the checks YAML input needs (booleans, ``yaw_deg``), which such floats pass:
-    a quarter of the constructor's cost, paid twenty times a second. The pose gets the state a
-    validated one pickles with (pydantic's ``__setstate__``). Anything but three finite floats
-    goes through the constructor, and fails as it does.
-    """
-    floats = type(x) is float and type(y) is float and type(yaw) is float
-    if not (floats and _finite(x) and _finite(y) and _finite(yaw)):
-        return Pose2D(x=x, y=y, yaw=yaw)
-    pose = Pose2D.__new__(Pose2D)
-    pose.__setstate__(
-        {
-            "__dict__": {"x": x, "y": y, "yaw": yaw},
-            "__pydantic_fields_set__": set(_FIELDS),
-            "__pydantic_extra__": None,
-            "__pydantic_private__": None,
-        }
-    )
-    return pose
-
-
-_finite = math.isfinite
