@@ -220,14 +220,15 @@ class NavigatorCore(Node):
         With ``changes_in_callbacks`` (``until`` reads what only the simulation's callbacks
         change, such as a task's outcome) and no pacing, the checks that cannot have changed
         are skipped: each batch steps to the end of the slice in which the next callback runs.
-        It stops at the same step as checking every slice would.
+        It stops at the same step as checking every slice would (a condition that holds
+        already stops at the end of the first slice, so it is checked every slice then).
         """
         self._live_server()
         sim = self._rig.sim
         start = sim.step_count
         end = start + max(math.ceil(horizon / sim.physics_dt - 1e-9), 0)
         slice_steps = max(round(POLL_SLICE / sim.physics_dt), 1)
-        skip = changes_in_callbacks and until is not None and self._pacer is None
+        skip = changes_in_callbacks and until is not None and self._pacer is None and not until()
         while sim.step_count < end:
             target = sim.step_count + slice_steps
             if skip:

@@ -489,3 +489,17 @@ def test_a_poll_skips_only_checks_that_cannot_change(cafe: BasicNavigator, flip_
     slice_steps = round(0.01 / sim.physics_dt)
     flip_step = round(flip_at / sim.physics_dt)
     assert stops[0] == stops[1] == (flip_step // slice_steps + 1) * slice_steps
+
+
+def test_a_poll_whose_condition_already_holds_stops_after_one_slice(cafe: BasicNavigator) -> None:
+    """A condition true before any step (a goal that had ended) stops the poll at the end of
+    the first slice, skipping or not: no callback has to run first."""
+    sim = cafe._rig.sim
+    cafe._advance(0.003, None)  # off the callbacks' steps: the next one is a slice or more away
+    slice_steps = round(0.01 / sim.physics_dt)
+    stops = []
+    for skipping in (True, False):
+        start = sim.step_count
+        cafe._advance(1.0, lambda: True, changes_in_callbacks=skipping)
+        stops.append(sim.step_count - start)
+    assert stops == [slice_steps, slice_steps]
