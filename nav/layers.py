@@ -17,7 +17,6 @@ import numpy as np
 
 from baobab.nav.costmap import (
     FREE_SPACE,
-    GRID,
     INSCRIBED_INFLATED_OBSTACLE,
     LETHAL_OBSTACLE,
     MAX_NON_OBSTACLE,
@@ -258,18 +257,6 @@ class ObstacleLayer:
             bounds=np.zeros(4, dtype=np.int64),
         )
         self._changed_count = 0
-        self._geometry_record = np.zeros(1, dtype=GRID)
-        self._geometry_key: tuple[float, float, float, float] | None = None
-
-    def _geometry(self) -> np.ndarray:
-        """The grid's :data:`~baobab.nav.costmap.GRID` record, refilled in place when the grid
-        moved (a rolling window moves at every update; read only, for the call at hand)."""
-        grid = self.grid
-        key = (grid.origin_x, grid.origin_y, grid.resolution, grid.inscribed_radius)
-        if key != self._geometry_key:
-            self._geometry_record[0] = key
-            self._geometry_key = key
-        return self._geometry_record
 
     @property
     def last_changes(self) -> tuple[np.ndarray, np.ndarray]:
@@ -306,9 +293,7 @@ class ObstacleLayer:
         if ranges.size == 0:
             return None
         grid = self.grid
-        count = trace_scan(
-            grid.data, self._geometry(), scan.pack(), ranges, self._ranges, self._tracer
-        )
+        count = trace_scan(grid.data, grid.pack(), scan.pack(), ranges, self._ranges, self._tracer)
         self._changed_count = count
         if count == 0:
             return None
