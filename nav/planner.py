@@ -86,7 +86,6 @@ class GlobalPlanner:
         self.smoother = smoother if smoother is not None else SimpleSmoother()
         self.weights = step_weights(self.params.cost_travel_multiplier, self.params.allow_unknown)
         self._search = GridSearch()
-        self._packed_smoother: tuple[SimpleSmoother, np.ndarray] | None = None
 
     def create_plan(self, start: Pose2D, goal: Pose2D, costmap: Costmap2D) -> Path:
         """A smoothed path from ``start`` to ``goal``; poses face along the path.
@@ -104,11 +103,8 @@ class GlobalPlanner:
         the poses are oriented once, on the smoothed points.
         """
         points = raw.points
-        smoother = self.smoother
-        if smoother is not None:
-            if self._packed_smoother is None or self._packed_smoother[0] is not smoother:
-                self._packed_smoother = (smoother, smoother.pack())  # packed once per smoother
-            points = smoother.smooth_points(points, costmap, self._packed_smoother[1]).points
+        if self.smoother is not None:
+            points = self.smoother.smooth_points(points, costmap).points
         path = Path.from_points(points, goal.yaw)
         if self.params.use_final_approach_orientation and len(path) > 1:
             path = Path.from_points(path.xy, float(path.yaws[-2]))

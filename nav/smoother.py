@@ -132,13 +132,10 @@ class SimpleSmoother:
         path_out = Path.from_points(smoothed.points, float(path.yaws[-1]), path.frame_id)
         return SmoothResult(path_out, smoothed.was_completed)
 
-    def smooth_points(
-        self, points: np.ndarray, costmap: Costmap2D | None, settings: np.ndarray | None = None
-    ) -> SmoothedPoints:
+    def smooth_points(self, points: np.ndarray, costmap: Costmap2D | None) -> SmoothedPoints:
         """Smooth ``(N, 2)`` map points (m) as :meth:`smooth` does; the input is not changed.
 
-        ``settings`` is this smoother's :meth:`pack`, for a caller that keeps it (packed here
-        when omitted). Fewer than three points come back as they are.
+        Fewer than three points come back as they are.
         """
         xy = np.ascontiguousarray(points, dtype=float)
         if xy.shape[0] < 3:
@@ -148,8 +145,7 @@ class SimpleSmoother:
             grid = record(GRID, origin_x=0.0, origin_y=0.0, resolution=1.0, inscribed_radius=0.0)
         else:
             cells, grid = costmap.data, costmap.pack()
-        if settings is None:
-            settings = self.pack()
+        settings = self.pack()
         for _ in range(1 + (self.refinement_num if self.do_refinement else 0)):
             status, xy = _smooth_round(xy, cells, grid, settings)
             if status != CONVERGED:
