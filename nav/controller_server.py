@@ -11,6 +11,7 @@ paths that pass near their own end).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -19,7 +20,6 @@ from baobab.nav.checkers import SimpleGoalChecker, SimpleProgressChecker
 from baobab.nav.costmap import Costmap2D
 from baobab.nav.costmap_filters import SpeedLimit
 from baobab.nav.errors import FollowPathError, NavigationError
-from baobab.nav.feedback import ControllerTracking
 from baobab.nav.interfaces import MobileBase
 from baobab.nav.path import Path
 from baobab.nav.pure_pursuit import RegulatedPurePursuit, RegulatedPurePursuitParams
@@ -156,15 +156,21 @@ class PathFollower:
         """Stop the robot (cancel or halted tree)."""
         self.base.stop()
 
-    def _tracking(
-        self, path: Path, pose: Pose2D, speed: float, remaining: float
-    ) -> ControllerTracking:
-        """Nav2's ``TrackingFeedback`` fields (m, rad, m/s) of this cycle (a nested mapping, so
-        that the run's trace, which keeps the scalar feedback fields, is unchanged; put
-        together when read)."""
+    def _tracking(self, path: Path, pose: Pose2D, speed: float, remaining: float) -> dict[str, Any]:
+        """Nav2's ``TrackingFeedback`` fields (m, rad, m/s) of this cycle (a nested dict, so
+        that the run's trace, which keeps the scalar feedback fields, is unchanged)."""
         step = self.controller.step
         assert step is not None  # the controller just ran
-        return ControllerTracking(step, pose, path.goal, speed, remaining)
+        goal = path.goal
+        return {
+            "position_tracking_error": step.position_error,
+            "heading_tracking_error": step.heading_error,
+            "current_path_index": step.tracking_index,
+            "robot_pose": pose,
+            "distance_to_goal": math.hypot(goal.x - pose.x, goal.y - pose.y),
+            "speed": speed,
+            "remaining_path_length": remaining,
+        }
 
 
 class FollowPathTask:

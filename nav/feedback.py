@@ -6,22 +6,18 @@ the pose closest to the robot (searched within a window ahead of the last closes
 ``estimated_time_remaining`` is that distance over the odometry speed averaged over
 ``filter_duration``, or 0 when the robot barely moves or is almost there. The controller's
 ``TrackingFeedback`` (:func:`path_tracking`) says how far the robot is off its path; the
-controller's compiled cycle computes it (:mod:`baobab.nav.tracking_kernel`, tested against this)
-and hands its fields on as a :class:`ControllerTracking`, put together when read.
+controller's compiled cycle computes it (:mod:`baobab.nav.tracking_kernel`, tested against this).
 """
 
 from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import Any, Protocol
 
 import numpy as np
 
 from baobab.nav.path import Path, wrap_angle
-from baobab.sim.world import Pose2D
 
 
 class PathProgress:
@@ -106,78 +102,6 @@ class PathTracking:
     position_error: float
     heading_error: float
     index: int
-
-
-class TrackingErrors(Protocol):
-    """Where a controller cycle found the robot against its path (the compiled cycle's
-    :class:`~baobab.nav.rpp_kernel.PursuitStep` has these fields)."""
-
-    @property
-    def position_error(self) -> float:
-        """Signed distance (m) off the path, as :attr:`PathTracking.position_error`."""
-        ...
-
-    @property
-    def heading_error(self) -> float:
-        """rad, as :attr:`PathTracking.heading_error`."""
-        ...
-
-    @property
-    def tracking_index(self) -> int:
-        """The segment, as :attr:`PathTracking.index`."""
-        ...
-
-
-class ControllerTracking(Mapping[str, Any]):
-    """Nav2's ``TrackingFeedback`` fields of one controller cycle (m, rad, m/s), read only.
-
-    Built every cycle from what the cycle found, but the fields (a dict) are put together
-    only when first read: the controller runs at 20 Hz, its feedback is read far less often.
-    The inputs are immutable, so the fields are the ones the cycle would have written.
-
-    Args:
-        errors: the cycle's tracking errors.
-        pose: the robot's pose the cycle used.
-        goal: the path's last pose.
-        speed: the robot's forward speed (m/s) the cycle used.
-        remaining: path length (m) left from the pose closest to the robot.
-    """
-
-    __slots__ = ("_errors", "_fields", "_goal", "_pose", "_remaining", "_speed")
-
-    def __init__(
-        self, errors: TrackingErrors, pose: Pose2D, goal: Pose2D, speed: float, remaining: float
-    ) -> None:
-        self._errors, self._pose, self._goal = errors, pose, goal
-        self._speed, self._remaining = speed, remaining
-        self._fields: dict[str, Any] | None = None
-
-    def _values(self) -> dict[str, Any]:
-        fields = self._fields
-        if fields is None:
-            errors, pose, goal = self._errors, self._pose, self._goal
-            fields = self._fields = {
-                "position_tracking_error": errors.position_error,
-                "heading_tracking_error": errors.heading_error,
-                "current_path_index": errors.tracking_index,
-                "robot_pose": pose,
-                "distance_to_goal": math.hypot(goal.x - pose.x, goal.y - pose.y),
-                "speed": self._speed,
-                "remaining_path_length": self._remaining,
-            }
-        return fields
-
-    def __getitem__(self, key: str) -> Any:
-        return self._values()[key]
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._values())
-
-    def __len__(self) -> int:
-        return len(self._values())
-
-    def __repr__(self) -> str:
-        return f"ControllerTracking({self._values()!r})"
 
 
 def path_tracking(path: Path, closest: int, x: float, y: float, yaw: float) -> PathTracking:
