@@ -132,22 +132,16 @@ class GlobalPlanner:
                 f"goal {_xy(goal)} puts the robot's footprint on an obstacle at yaw "
                 f"{goal.yaw:.2f} rad",
             )
+        targets = self._goal_candidates(grid, costmap, goal)
+        if len(targets) == 0:
+            raise NavigationError(
+                codes.GOAL_OCCUPIED,
+                f"goal {_xy(goal)} is in an obstacle with no free cell within "
+                f"{self.params.tolerance} m",
+            )
         goal_rc = (goal_cell[1], goal_cell[0])
-        # The goal's own cell, when open, is the first candidate (distance -1): the others are
-        # needed only when the search cannot reach it.
-        targets = None
-        if self.weights[grid[goal_rc]] > 0 and self.params.tolerance >= 0:
-            first = goal_rc
-        else:
-            targets = self._goal_candidates(grid, costmap, goal)
-            if len(targets) == 0:
-                raise NavigationError(
-                    codes.GOAL_OCCUPIED,
-                    f"goal {_xy(goal)} is in an obstacle with no free cell within "
-                    f"{self.params.tolerance} m",
-                )
-            first = (int(targets[0][1]), int(targets[0][0]))
         start_rc = (start_cell[1], start_cell[0])
+        first = (int(targets[0][1]), int(targets[0][0]))
         result = self._search.search(
             grid, self.weights, start_rc, first, self.params.max_iterations
         )
@@ -157,8 +151,6 @@ class GlobalPlanner:
             )
         end_rc = first
         if result.status == EXHAUSTED:
-            if targets is None:
-                targets = self._goal_candidates(grid, costmap, goal)
             reached = self._search.reached()
             hits = reached[targets[:, 1], targets[:, 0]]
             if not hits.any():

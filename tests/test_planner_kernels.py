@@ -163,7 +163,6 @@ def test_plan_points_match_the_numpy_version() -> None:
 
 
 def test_an_open_goal_cell_is_always_the_first_candidate() -> None:
-    # The search skips the candidate list when the goal's cell is open (it comes first).
     rng = np.random.default_rng(12)
     checked = 0
     for case in range(200):
