@@ -86,10 +86,7 @@ def _flat_line(record: dict[str, Any]) -> str | None:
             text = nested
         else:
             return None
-        prefix = _KEY_PREFIXES.get(key)
-        if prefix is None:
-            prefix = _key_prefix(key)
-        parts.append(prefix + text)
+        parts.append(f"{_encode_string(key)}:{text}")
     return "{" + ",".join(parts) + "}"
 
 
@@ -120,18 +117,6 @@ _FIXED = f"%.{DECIMALS}f"
 _encode_string: Callable[[str], str] = json.encoder.encode_basestring
 """JSON's own string encoder for ``ensure_ascii=False`` (quotes and escapes)."""
 _isfinite = math.isfinite
-
-_KEY_PREFIXES: dict[str, str] = {}
-"""``"key":`` of the record keys seen so far (a few dozen field names)."""
-_MAX_KEY_PREFIXES = 1024
-
-
-def _key_prefix(key: str) -> str:
-    """``key`` as JSON followed by a colon, remembered while there are few keys."""
-    prefix = _encode_string(key) + ":"
-    if len(_KEY_PREFIXES) < _MAX_KEY_PREFIXES:
-        _KEY_PREFIXES[key] = prefix
-    return prefix
 
 
 class Trace:
