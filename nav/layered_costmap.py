@@ -224,16 +224,10 @@ class LayeredCostmap:
             self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
 
     def _window(self) -> np.ndarray:
-        """The window's placement and layers as the kernels' :data:`WINDOW` record (its
-        placement updated in place when the window moved; read only, and only for the call
-        at hand)."""
+        """The window's placement and layers as the kernels' :data:`WINDOW` record (built
+        again when the window moved; read only)."""
         if self._window_key != (self._ix0, self._iy0):
             params, resolution = self.params, self.resolution
-            if self._window_key is not None:  # moved: the settings stay
-                self._window_key = (self._ix0, self._iy0)
-                placement = self._window_record[0]
-                placement["raster_x0"], placement["raster_y0"] = self._ix0, self._iy0
-                return self._window_record
             self._window_key = (self._ix0, self._iy0)
             self._window_record = record(
                 WINDOW,

@@ -246,8 +246,7 @@ def test_rolling_a_window_in_one_call_matches_the_three_calls_it_replaced() -> N
 
 
 def test_a_moving_window_keeps_its_records_in_step_with_its_placement() -> None:
-    # The window's record is refilled in place when the window moves; the obstacle grid's is
-    # built again.
+    # The window's and the obstacle grid's records follow the window when it moves.
     world = cluttered_world()
     local = LayeredCostmap.local_costmap(world, Pose2D(x=0, y=0), size=(2.0, 1.5))
     rng = np.random.default_rng(4)
