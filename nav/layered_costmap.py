@@ -35,9 +35,10 @@ from baobab.nav.window_kernels import (
     Layers,
     Scratch,
     base_change_bounds,
+    dropped_base_bounds,
     refresh_window,
     refresh_window_static,
-    roll_window,
+    shift_grid,
 )
 from baobab.robots.catalog import default_mobile_robot
 from baobab.robots.footprint import Footprint
@@ -203,10 +204,9 @@ class LayeredCostmap:
             return
         if abs(dix) >= size_x or abs(diy) >= size_y:
             self._changed, self._stale = [], [(0, 0, size_x, size_y)]
-            self.obstacle_layer.shift(dix, diy)
         else:
             self._shift_master(dix, diy)
-            self.obstacle_layer.moved(dix, diy)
+        self.obstacle_layer.shift(dix, diy)
         self._ix0, self._iy0 = ix0, iy0
         self._master.origin_x = self.obstacle_layer.grid.origin_x
         self._master.origin_y = self.obstacle_layer.grid.origin_y
@@ -294,8 +294,7 @@ class LayeredCostmap:
         self._changed, self._stale = [], [(0, 0, self._master.size_x, self._master.size_y)]
 
     def _shift_master(self, dix: int, diy: int) -> None:
-        """Move the master and the obstacle cells by whole cells (one compiled call), keeping
-        what stays valid.
+        """Move the master by whole cells, keeping what stays valid, before the obstacles move.
 
         A kept cell keeps its value: its static and obstacle neighbours move with it, except
         obstacles that leave the window (recorded as changed cells, outside the new window) and
@@ -304,9 +303,12 @@ class LayeredCostmap:
         size_x, size_y = self._master.size_x, self._master.size_y
         grid, raster = self.obstacle_layer.grid.data, self.static_layer.raster
         window = self._window()
-        if roll_window(self._master.data, grid, raster, window, (dix, diy), self._bounds):
+        if self.params.use_obstacle_layer and dropped_base_bounds(
+            grid, raster, window, dix, diy, self._bounds
+        ):
             b = self._bounds
             self._changed.append((int(b[0]), int(b[1]), int(b[2]), int(b[3])))
+        shift_grid(self._master.data, dix, diy, FREE_SPACE)
         if self._changed:
             self._changed = [(a - dix, b - diy, c - dix, d - diy) for a, b, c, d in self._changed]
         if self._stale:

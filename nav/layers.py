@@ -272,11 +272,6 @@ class ObstacleLayer:
     def shift(self, dix: int, diy: int) -> None:
         """Move the grid by whole cells (rolling window); cells entering the window are free."""
         shift_grid(self.grid.data, dix, diy, FREE_SPACE)
-        self.moved(dix, diy)
-
-    def moved(self, dix: int, diy: int) -> None:
-        """Move the grid's origin by whole cells after its cells were moved so (as
-        :func:`~baobab.nav.window_kernels.roll_window` moves them with the master's)."""
         self.grid.origin_x += dix * self.grid.resolution
         self.grid.origin_y += diy * self.grid.resolution
         self._changed_count = 0

@@ -324,30 +324,6 @@ def dropped_base_bounds(
 
 
 @numba.njit(cache=True, nogil=True)
-def roll_window(
-    master: np.ndarray,
-    obstacle: np.ndarray,
-    raster: np.ndarray,
-    window: np.ndarray,
-    move: tuple[int, int],
-    bounds: np.ndarray,
-) -> bool:  # pragma: no cover - compiled
-    """Move a rolling window's master and obstacle cells by ``move`` ``(dix, diy)`` cells in
-    one call (:func:`shift_grid`; the cells that enter are free), after finding the obstacle
-    cells the move drops that raised a cell (:func:`dropped_base_bounds`, into ``bounds``;
-    only for a window with an obstacle layer). ``window`` is the :data:`WINDOW` record before
-    the move. Returns whether there are any such dropped cells.
-    """
-    dix, diy = move
-    dropped = False
-    if window[0].use_obstacle:
-        dropped = dropped_base_bounds(obstacle, raster, window, dix, diy, bounds)
-    shift_grid(master, dix, diy, FREE_SPACE)
-    shift_grid(obstacle, dix, diy, FREE_SPACE)
-    return dropped
-
-
-@numba.njit(cache=True, nogil=True)
 def refresh_window_static(
     layers: Layers, static_costs: np.ndarray, window: np.ndarray, rect: Rect, costs: np.ndarray
 ) -> None:  # pragma: no cover - compiled

@@ -24,9 +24,7 @@ from baobab.nav.costmap import (
 from baobab.nav.layered_costmap import CostmapParams, LayeredCostmap
 from baobab.nav.layers import InflationLayer, ObstacleLayer, ObstacleParams, StaticLayer
 from baobab.nav.raytrace_kernels import cell_thresholds
-from baobab.nav.window_kernels import WINDOW, dropped_base_bounds, roll_window, shift_grid
 from baobab.sim.lidar import LaserScan
-from baobab.sim.records import record
 from baobab.sim.world import Box, Cylinder, Floor, Pose2D, World
 
 
@@ -211,38 +209,6 @@ def test_rolling_window_matches_a_full_recompute(use_static: bool) -> None:
         if step % 3 != 1:  # some updates pile up before a read
             assert np.array_equal(local.costmap.data, reference_master(local)), step
             assert np.array_equal(whole.costmap.data, reference_master(whole)), step
-
-
-def test_rolling_a_window_in_one_call_matches_the_three_calls_it_replaced() -> None:
-    rng = np.random.default_rng(21)
-    raster = rng.choice(np.array([0, 254, 255, 60], dtype=np.uint8), size=(70, 80))
-    for case in range(200):
-        height, width = int(rng.integers(3, 30)), int(rng.integers(3, 30))
-        values = np.array([FREE_SPACE, LETHAL_OBSTACLE, NO_INFORMATION, 90], dtype=np.uint8)
-        obstacle = rng.choice(values, size=(height, width), p=[0.7, 0.2, 0.05, 0.05])
-        master = rng.integers(0, 256, (height, width)).astype(np.uint8)
-        window = record(
-            WINDOW,
-            raster_x0=int(rng.integers(-5, 70)),
-            raster_y0=int(rng.integers(-5, 60)),
-            use_static=case % 3 != 0,
-            use_obstacle=case % 4 != 0,
-            margin=3,
-            reach=3,
-        )
-        move = (int(rng.integers(-width + 1, width)), int(rng.integers(-height + 1, height)))
-        expected_master, expected_obstacle = master.copy(), obstacle.copy()
-        expected_bounds, bounds = np.zeros(4, dtype=np.int64), np.zeros(4, dtype=np.int64)
-        expected = bool(window[0]["use_obstacle"]) and dropped_base_bounds(
-            expected_obstacle, raster, window, move[0], move[1], expected_bounds
-        )
-        shift_grid(expected_master, move[0], move[1], FREE_SPACE)
-        shift_grid(expected_obstacle, move[0], move[1], FREE_SPACE)
-        assert roll_window(master, obstacle, raster, window, move, bounds) == expected
-        assert np.array_equal(master, expected_master)
-        assert np.array_equal(obstacle, expected_obstacle)
-        if expected:
-            assert np.array_equal(bounds, expected_bounds)
 
 
 def test_a_moving_window_keeps_its_records_in_step_with_its_placement() -> None:
