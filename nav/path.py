@@ -38,25 +38,11 @@ class Path:
         that leaves it; the last pose takes the goal's yaw.
         """
         xy = np.asarray(points, dtype=float).reshape(-1, 2)
-        poses = np.empty((len(xy), 3))
-        poses[:, :2] = xy
-        poses[-1:, 2] = float(final_yaw)
+        yaws = np.full(len(xy), float(final_yaw))
         if len(xy) > 1:
             step = np.diff(xy, axis=0)
-            poses[:-1, 2] = np.arctan2(step[:, 1], step[:, 0])
-        return cls._adopt(poses, frame_id)
-
-    @classmethod
-    def _adopt(cls, poses: np.ndarray, frame_id: str) -> Path:
-        """A path that takes ``poses`` (a new ``(N, 3)`` float array nobody else holds) as its
-        own, checked finite but not copied."""
-        if not np.isfinite(poses).all():
-            raise ValueError("path poses must be finite")
-        poses.setflags(write=False)
-        path = cls.__new__(cls)
-        object.__setattr__(path, "poses", poses)
-        object.__setattr__(path, "frame_id", frame_id)
-        return path
+            yaws[:-1] = np.arctan2(step[:, 1], step[:, 0])
+        return cls(np.column_stack([xy, yaws]), frame_id)
 
     def __len__(self) -> int:
         return int(self.poses.shape[0])
