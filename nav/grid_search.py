@@ -292,9 +292,5 @@ class GridSearch:
     def path_to(self, cell: tuple[int, int]) -> np.ndarray:
         """``(N, 2)`` array of ``(row, col)`` from the start to a reached ``cell``."""
         width = self._shape[1]
-        flat = self.trace(cell)
+        flat = _trace(self._space.parent, cell[0] * width + cell[1])
         return np.stack([flat // width, flat % width], axis=1)
-
-    def trace(self, cell: tuple[int, int]) -> np.ndarray:
-        """``(N,)`` flat indices ``row * width + col`` from the start to a reached ``cell``."""
-        return _trace(self._space.parent, cell[0] * self._shape[1] + cell[1])

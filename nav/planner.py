@@ -162,10 +162,17 @@ class GlobalPlanner:
                 raise NavigationError(codes.NO_VALID_PATH, f"{reach} {_xy(goal)}")
             nearest = targets[int(np.argmax(hits))]
             end_rc = (int(nearest[1]), int(nearest[0]))
+        rows_cols = self._search.path_to(end_rc)
+        cells = rows_cols[:, ::-1].copy()
+        xs, ys = costmap.map_to_world_array(cells[:, 0], cells[:, 1])
+        points = np.column_stack([xs, ys])
+        points[0] = (start.x, start.y)
         substituted = end_rc != goal_rc
-        ends = np.array([(start.x, start.y), (goal.x, goal.y)])
-        flat = self._search.trace(end_rc)
-        cells, points = _plan_points(flat, costmap.size_x, costmap.pack(), ends, not substituted)
+        if not substituted:
+            if len(points) == 1:
+                points = np.vstack([points, [(goal.x, goal.y)]])
+            else:
+                points[-1] = (goal.x, goal.y)
         return RawPlan(cells, points, self._search.cost_to(end_rc), result.expansions, substituted)
 
     def _goal_candidates(self, grid: np.ndarray, costmap: Costmap2D, goal: Pose2D) -> np.ndarray:
@@ -220,34 +227,6 @@ def _goal_candidates(
                 found += 1
     order = np.argsort(distances[:found], kind="mergesort")
     return found_cells[:found][order]
-
-
-@numba.njit(cache=True, nogil=True)
-def _plan_points(
-    flat: np.ndarray, width: int, grid: np.ndarray, ends: np.ndarray, goal_reached: bool
-) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover - compiled
-    """The cells ``(ix, iy)`` and map points (m) of a searched path of flat cell indices
-    ``iy * width + ix``, start first.
-
-    The points are the cell centres of the :data:`~baobab.nav.costmap.GRID` record ``grid``,
-    except the first, which is the exact start ``ends[0]``, and, when ``goal_reached``, the
-    last, which is the exact goal ``ends[1]`` (appended when the path is the start's cell
-    alone).
-    """
-    g = grid[0]
-    count = flat.shape[0]
-    cells = np.empty((count, 2), np.int64)
-    extra = 1 if goal_reached and count == 1 else 0
-    points = np.empty((count + extra, 2))
-    for k in range(count):
-        ix, iy = flat[k] % width, flat[k] // width
-        cells[k, 0], cells[k, 1] = ix, iy
-        points[k, 0] = g.origin_x + (ix + 0.5) * g.resolution
-        points[k, 1] = g.origin_y + (iy + 0.5) * g.resolution
-    points[0, 0], points[0, 1] = ends[0, 0], ends[0, 1]
-    if goal_reached:
-        points[count + extra - 1, 0], points[count + extra - 1, 1] = ends[1, 0], ends[1, 1]
-    return cells, points
 
 
 def step_weights(cost_travel_multiplier: float, allow_unknown: bool) -> np.ndarray:

@@ -10,7 +10,7 @@ import pytest
 from baobab.nav.costmap import MAX_NON_OBSTACLE, NO_INFORMATION, Costmap2D
 from baobab.nav.errors import NavigationError
 from baobab.nav.path import Path
-from baobab.nav.planner import GlobalPlanner, PlannerParams, _plan_points
+from baobab.nav.planner import GlobalPlanner, PlannerParams
 from baobab.nav.smoother import COLLISION, CONVERGED, MAX_ITERATIONS, SimpleSmoother, _smooth_round
 from baobab.sim.world import Pose2D
 
@@ -121,45 +121,6 @@ def test_a_planned_path_is_the_smoothed_raw_path() -> None:
     smoothed = SimpleSmoother().smooth(Path.from_points(raw.points, goal.yaw), costmap).path
     path = planner.create_plan(start, goal, costmap)
     assert np.array_equal(path.poses, smoothed.poses)
-
-
-def reference_plan_points(
-    rows_cols: np.ndarray, costmap: Costmap2D, start: Pose2D, goal: Pose2D, reached: bool
-) -> tuple[np.ndarray, np.ndarray]:
-    """The numpy version :func:`_plan_points` replaced: cells, centres, then the exact ends."""
-    cells = rows_cols[:, ::-1].copy()
-    xs, ys = costmap.map_to_world_array(cells[:, 0], cells[:, 1])
-    points = np.column_stack([xs, ys])
-    points[0] = (start.x, start.y)
-    if reached:
-        if len(points) == 1:
-            points = np.vstack([points, [(goal.x, goal.y)]])
-        else:
-            points[-1] = (goal.x, goal.y)
-    return cells, points
-
-
-def test_plan_points_match_the_numpy_version() -> None:
-    rng = np.random.default_rng(11)
-    for case in range(300):
-        width, height = int(rng.integers(1, 50)), int(rng.integers(1, 50))
-        resolution = float(rng.choice([0.05, 0.1, 0.037]))
-        costmap = Costmap2D(width, height, resolution, (float(rng.normal()), float(rng.normal())))
-        count = int(rng.integers(1, 30))
-        rows_cols = np.column_stack(
-            [rng.integers(0, height, count), rng.integers(0, width, count)]
-        ).astype(np.int64)
-        start = Pose2D(x=float(rng.normal()), y=float(rng.normal()))
-        goal = Pose2D(x=float(rng.normal()), y=float(rng.normal()))
-        reached = case % 2 == 0
-        flat = rows_cols[:, 0] * width + rows_cols[:, 1]
-        ends = np.array([(start.x, start.y), (goal.x, goal.y)])
-        cells, points = _plan_points(flat, width, costmap.pack(), ends, reached)
-        expected_cells, expected_points = reference_plan_points(
-            rows_cols, costmap, start, goal, reached
-        )
-        assert np.array_equal(cells, expected_cells)
-        assert np.array_equal(points, expected_points)
 
 
 def test_an_open_goal_cell_is_always_the_first_candidate() -> None:
