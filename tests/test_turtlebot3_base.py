@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from baobab.robots.diff_drive import DiffDriveBase, MobileRobot
+from baobab.robots.diff_drive.ground_truth_kernel import ground_truth_reference
 from baobab.robots.turtlebot3 import (
     BURGER,
     attach_turtlebot3,
@@ -208,13 +209,7 @@ def test_teleport_places_the_robot_at_rest_and_restarts_odometry() -> None:
 def _state_from_the_physics(robot: MobileRobot) -> tuple[float, float, float, float, float]:
     """x, y (m), yaw (rad), forward speed (m/s), yaw rate (rad/s), read from MjData now."""
     root = robot.sim.data.joint(robot.names.root_joint)
-    rotation = np.empty(9)
-    mujoco.mju_quat2Mat(rotation, root.qpos[3:7])
-    r = rotation.tolist()
-    vx, vy, vz, wx, wy, wz = root.qvel.tolist()
-    x, y = root.qpos[:2].tolist()
-    yaw = math.atan2(r[3], r[0])
-    return x, y, yaw, r[0] * vx + r[3] * vy + r[6] * vz, r[6] * wx + r[7] * wy + r[8] * wz
+    return ground_truth_reference(root.qpos, root.qvel)
 
 
 def _read(robot: MobileRobot) -> tuple[float, float, float, float, float]:
