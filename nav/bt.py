@@ -321,7 +321,7 @@ class RateController(Direct, py_trees.decorators.Decorator):
         return self.status
 
     def update(self) -> Status:
-        """Unused: :meth:`tick` decides."""
+        """Unused: :meth:`step` decides."""
         return self.status
 
 
