@@ -175,7 +175,7 @@ def test_planned_paths_are_the_paths_put_together_as_before(final_approach: bool
         assert not path.poses.flags.writeable
 
 
-def test_a_replaced_smoother_is_packed_again() -> None:
+def test_a_replaced_smoother_is_the_one_used() -> None:
     costmap = Costmap2D(60, 60, 0.05, (-1.5, -1.5))
     costmap.data[20:40, 28:32] = 254
     start, goal = Pose2D(x=-1.0, y=0.0), Pose2D(x=1.0, y=0.1, yaw=0.5)
