@@ -27,7 +27,7 @@ of the second, pyrobosim's trajectory time (the sum of its two trajectories' dur
 The paired ratio of one repetition is baobab's figure over pyrobosim's; the report gives the
 median and range of the nine.
 
-What is and is not comparable (also in bench/README.md): both plan on a 0.05 m grid and
+What is and is not comparable (also in README.md, "baobab beside pyrobosim"): both plan on a 0.05 m grid and
 drive the same distance at the same top speed, and both report sim time per wall time; but
 pyrobosim is kinematic (it sets the robot's pose along a constant-velocity trajectory: no
 dynamics, no sensors, no costmaps, no controller, no replanning), while baobab steps rigid-body
