@@ -27,13 +27,13 @@ of the second, pyrobosim's trajectory time (the sum of its two trajectories' dur
 The paired ratio of one repetition is baobab's figure over pyrobosim's; the report gives the
 median and range of the nine.
 
-What is and is not comparable (also in README.md, "baobab beside pyrobosim"): both plan on a 0.05 m grid and
-drive the same distance at the same top speed, and both report sim time per wall time; but
-pyrobosim is kinematic (it sets the robot's pose along a constant-velocity trajectory: no
-dynamics, no sensors, no costmaps, no controller, no replanning), while baobab steps rigid-body
-physics at 200 Hz with a 360-beam lidar, two costmaps, a 20 Hz controller and 1 Hz replanning.
-baobab's robot accelerates, slows for turns and the goal, so its sim time for the trip is
-longer than pyrobosim's trajectory time.
+What is and is not comparable (also in README.md, "baobab beside pyrobosim"): both plan on a
+0.05 m grid and drive the same distance at the same top speed, and both report sim time per
+wall time; but pyrobosim is kinematic (it sets the robot's pose along a constant-velocity
+trajectory: no dynamics, no sensors, no costmaps, no controller, no replanning), while baobab
+steps rigid-body physics at 200 Hz with a 360-beam lidar, two costmaps, a 20 Hz controller and
+1 Hz replanning. baobab's robot accelerates, slows for turns and the goal, so its sim time for
+the trip is longer than pyrobosim's trajectory time.
 """
 
 from __future__ import annotations
