@@ -44,9 +44,8 @@ class Direct(Behaviour):
     new status; :meth:`tick`, py_trees' generator, runs it and yields the node once."""
 
     ticks_directly: ClassVar[bool] = True
-    """Marks the nodes :func:`tick_child` and :mod:`~baobab.nav.direct_tick` call directly (a
-    class attribute is read faster than ``isinstance`` answers for py_trees' abstract base
-    class)."""
+    """Marks the nodes :mod:`~baobab.nav.direct_tick` ticks by :meth:`step` (a class attribute
+    is read faster than ``isinstance`` answers for py_trees' abstract base class)."""
 
     def step(self) -> Status:
         """Tick once; the node's new status."""
@@ -59,10 +58,8 @@ class Direct(Behaviour):
 
 
 def tick_child(child: Behaviour) -> Status:
-    """Tick ``child`` once and return its new status: baobab's nodes by :meth:`Direct.step`,
-    py_trees' own by :func:`~baobab.nav.direct_tick.tick_once`."""
-    if getattr(child, "ticks_directly", False):
-        return child.step()  # type: ignore[attr-defined]  # a Direct node
+    """Tick ``child`` once (:func:`~baobab.nav.direct_tick.tick_once`: baobab's nodes by
+    :meth:`Direct.step`, py_trees' own by plain calls) and return its new status."""
     tick_once(child)
     return child.status
 
