@@ -355,7 +355,7 @@ class NavigateTask:
         feedback["number_of_recoveries"] = context.number_of_recoveries
         tracking = self._follower.feedback.get("tracking_feedback")
         if tracking is not None and path is self._follower.located_path:
-            feedback["tracking_feedback"] = tracking  # read only: shared, not copied
+            feedback["tracking_feedback"] = dict(tracking)
         if self.through_poses:
             feedback["number_of_poses_remaining"] = len(context.goals)
             self._update_statuses()
