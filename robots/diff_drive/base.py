@@ -86,8 +86,6 @@ class DiffDriveBase:
         self._truth_revision = -1
         self._truth: GroundTruth = (0.0, 0.0, 0.0, 0.0, 0.0)
         self._pose_revision = -1
-        self._velocity_revision = -1
-        self._velocity = (0.0, 0.0)
         self._pose = Pose2D(x=0.0, y=0.0)
         robot_body = model.body(self.names.body).id
         self._robot_geoms = np.flatnonzero(model.body_rootid[model.geom_bodyid] == robot_body)
@@ -235,12 +233,8 @@ class DiffDriveBase:
 
     def body_velocity(self) -> tuple[float, float]:
         """Ground-truth forward speed (m/s) and yaw rate (rad/s)."""
-        revision = self._sim.state_revision
-        if revision != self._velocity_revision:
-            _, _, _, linear, angular = self._ground_truth(revision)
-            self._velocity = (linear, angular)
-            self._velocity_revision = revision
-        return self._velocity
+        _, _, _, linear, angular = self._ground_truth(self._sim.state_revision)
+        return linear, angular
 
     def teleport(self, pose: Pose2D) -> None:
         """Put the robot at ``pose`` (map frame) at rest, and restart odometry there."""
