@@ -230,15 +230,10 @@ class NavigatorCore(Node):
         slice_steps = max(round(POLL_SLICE / sim.physics_dt), 1)
         skip = changes_in_callbacks and until is not None and self._pacer is None and not until()
         while sim.step_count < end:
-            target = sim.step_count + slice_steps
-            if skip:
-                next_callback = max(sim.next_callback_step, sim.step_count)
-                if next_callback < end:
-                    slices_before = (int(next_callback) - start) // slice_steps
-                    target = start + (slices_before + 1) * slice_steps
-                else:
-                    target = end
-            sim.step_to(min(target, end))
+            wake = sim.step_count
+            if skip:  # the next callback runs when stepping from its step, so step past it
+                wake = int(min(max(sim.next_callback_step, wake), end))
+            sim.step_to(min(start + ((wake - start) // slice_steps + 1) * slice_steps, end))
             if self._pacer is not None:
                 self._pacer.wait(self._sim_seconds())
             if until is not None and until():
