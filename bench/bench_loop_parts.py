@@ -37,53 +37,40 @@ _self: collections.defaultdict[str, float] = collections.defaultdict(float)
 _calls: collections.Counter[str] = collections.Counter()
 _stack: list[list[float]] = []  # per open timer: [time spent in timed children]
 
-METHODS = [
-    # (module, class, method, part)
-    ("baobab.nav.server", "NavigationServer", "_on_control", "nav tick: server, task and BT glue"),
-    ("baobab.nav.server", "NavigationServer", "compute_path", "nav tick: planner (1 Hz)"),
-    (
-        "baobab.nav.server",
-        "NavigationServer",
-        "compute_path_through_poses",
-        "nav tick: planner (1 Hz)",
+TIMED: dict[str, tuple[str, ...]] = {
+    # part: the methods ("module:Class.method") whose self time counts to it
+    "nav tick: server, task and BT glue": ("baobab.nav.server:NavigationServer._on_control",),
+    "nav tick: planner (1 Hz)": (
+        "baobab.nav.server:NavigationServer.compute_path",
+        "baobab.nav.server:NavigationServer.compute_path_through_poses",
     ),
-    ("baobab.nav.task_slot", "TaskSlot", "tick", "nav tick: task slot"),
-    ("baobab.nav.navigate", "NavigateTask", "tick", "nav tick: Nav2 tree traversal"),
-    ("baobab.nav.navigate", "NavigateTask", "_update_feedback", "nav tick: navigator feedback"),
-    ("baobab.nav.bt_nodes", "FollowPath", "update", "nav tick: FollowPath leaf"),
-    ("baobab.nav.controller_server", "PathFollower", "cycle", "nav tick: controller cycle glue"),
-    (
-        "baobab.nav.controller_server",
-        "PathFollower",
-        "_tracking",
-        "nav tick: controller tracking feedback",
+    "nav tick: task slot": ("baobab.nav.task_slot:TaskSlot.tick",),
+    "nav tick: Nav2 tree traversal": ("baobab.nav.navigate:NavigateTask.tick",),
+    "nav tick: navigator feedback": ("baobab.nav.navigate:NavigateTask._update_feedback",),
+    "nav tick: FollowPath leaf": ("baobab.nav.bt_nodes:FollowPath.update",),
+    "nav tick: controller cycle glue": ("baobab.nav.controller_server:PathFollower.cycle",),
+    "nav tick: controller tracking feedback": (
+        "baobab.nav.controller_server:PathFollower._tracking",
     ),
-    ("baobab.nav.checkers", "SimpleProgressChecker", "check", "nav tick: progress checker"),
-    ("baobab.nav.checkers", "SimpleGoalChecker", "is_goal_reached", "nav tick: goal checker"),
-    (
-        "baobab.nav.pure_pursuit",
-        "RegulatedPurePursuit",
-        "compute_velocity",
-        "nav tick: RPP controller",
+    "nav tick: progress checker": ("baobab.nav.checkers:SimpleProgressChecker.check",),
+    "nav tick: goal checker": ("baobab.nav.checkers:SimpleGoalChecker.is_goal_reached",),
+    "nav tick: RPP controller": ("baobab.nav.pure_pursuit:RegulatedPurePursuit.compute_velocity",),
+    "costmap: local update (5 Hz)": ("baobab.nav.server:NavigationServer._update_local",),
+    "costmap: global update (1 Hz)": ("baobab.nav.server:NavigationServer._update_global",),
+    "costmap: scan marking": ("baobab.nav.costmap_updates:CostmapUpdates.on_scan",),
+    "costmap: master refresh": ("baobab.nav.layered_costmap:LayeredCostmap._refresh",),
+    "robot pose and speed reads": (
+        "baobab.robots.diff_drive.base:DiffDriveBase.pose",
+        "baobab.robots.diff_drive.base:DiffDriveBase.body_velocity",
     ),
-    ("baobab.nav.server", "NavigationServer", "_update_local", "costmap: local update (5 Hz)"),
-    ("baobab.nav.server", "NavigationServer", "_update_global", "costmap: global update (1 Hz)"),
-    ("baobab.nav.costmap_updates", "CostmapUpdates", "on_scan", "costmap: scan marking"),
-    ("baobab.nav.layered_costmap", "LayeredCostmap", "_refresh", "costmap: master refresh"),
-    ("baobab.robots.diff_drive.base", "DiffDriveBase", "pose", "robot pose and speed reads"),
-    (
-        "baobab.robots.diff_drive.base",
-        "DiffDriveBase",
-        "body_velocity",
-        "robot pose and speed reads",
-    ),
-    ("baobab.missions.run.tick_loop", "RunLoop", "_tick_tree", "mission tree tick (10 Hz)"),
-    ("baobab.missions.run.tick_loop", "RunLoop", "_record_tree", "trace: tree statuses"),
-    ("baobab.missions.run.tick_loop", "RunLoop", "_record_state", "trace: robot state"),
-    ("baobab.missions.run.tick_loop", "RunLoop", "_record_sim", "trace: sim records"),
-    ("baobab.missions.run.tick_loop", "RunLoop", "_report", "progress report"),
-    ("baobab.missions.run.fault_monitors", "FaultMonitors", "check", "fault monitors"),
-]
+    "mission tree tick (10 Hz)": ("baobab.missions.run.tick_loop:RunLoop._tick_tree",),
+    "trace: tree statuses": ("baobab.missions.run.tick_loop:RunLoop._record_tree",),
+    "trace: robot state": ("baobab.missions.run.tick_loop:RunLoop._record_state",),
+    "trace: sim records": ("baobab.missions.run.tick_loop:RunLoop._record_sim",),
+    "progress report": ("baobab.missions.run.tick_loop:RunLoop._report",),
+    "fault monitors": ("baobab.missions.run.fault_monitors:FaultMonitors.check",),
+}
+"""The parts timed by wrapping methods, beside the periodic callbacks and ``mj_step``."""
 
 
 def _timed(part: str, work: Callable[..., Any]) -> Callable[..., Any]:
@@ -116,9 +103,13 @@ def _part(name: str) -> str:
 
 def _install_timers() -> None:
     wrap_callbacks(lambda name, work: _timed(_part(name), work))
-    for module_name, class_name, method, part in METHODS:
-        cls = getattr(importlib.import_module(module_name), class_name)
-        if method in vars(cls):
+    for part, methods in TIMED.items():
+        for name in methods:
+            module_name, _, qualified = name.partition(":")
+            class_name, _, method = qualified.partition(".")
+            cls = getattr(importlib.import_module(module_name), class_name)
+            if method not in vars(cls):  # renamed or moved: say so rather than time nothing
+                raise SystemExit(f"bench_loop_parts: {name} is gone; update TIMED")
             setattr(cls, method, _timed(part, vars(cls)[method]))
 
 
